@@ -1,0 +1,589 @@
+//! Control flow and evaluation: if, while, for, foreach, switch, proc,
+//! return, catch, error, eval, uplevel, source, exit, time, info, rename.
+
+use std::rc::Rc;
+use std::time::Instant;
+
+use super::super::error::{Code, Exception, TclResult};
+use super::super::interp::{Interp, Proc, Var};
+use super::super::parser;
+use super::super::value::Value;
+use super::{Entry, check_args, glob_match, pick_option};
+
+pub(super) const COMMANDS: &[Entry] = &[
+    (
+        "if",
+        cmd_if,
+        "expr1 ?then? body1 elseif expr2 ?then? body2 elseif ... ?else? ?bodyN?",
+        "run a body if a condition holds",
+    ),
+    ("expr", cmd_expr, "arg ?arg ...?", "evaluate an expression"),
+    ("while", cmd_while, "test command", "loop while a condition holds"),
+    ("for", cmd_for, "start test next command", "C-style loop"),
+    ("foreach", cmd_foreach, "varList list ?varList list ...? command", "loop over list elements"),
+    ("break", cmd_break, "", "leave the innermost loop"),
+    ("continue", cmd_continue, "", "skip to the next loop iteration"),
+    (
+        "switch",
+        cmd_switch,
+        "?-option ...? string ?pattern body ...? ?default body?",
+        "choose a body by matching a string",
+    ),
+    ("proc", cmd_proc, "name args body", "define a procedure"),
+    ("return", cmd_return, "?-option value ...? ?result?", "return from a procedure or script"),
+    (
+        "catch",
+        cmd_catch,
+        "script ?resultVarName? ?optionsVarName?",
+        "run a script, trapping errors; returns the code",
+    ),
+    ("error", cmd_error, "message ?errorInfo? ?errorCode?", "raise an error"),
+    ("eval", cmd_eval, "arg ?arg ...?", "concatenate the arguments and run them as a script"),
+    ("uplevel", cmd_uplevel, "?level? command ?arg ...?", "run a script in a caller's frame"),
+    ("source", cmd_source, "fileName", "run a script file"),
+    ("exit", cmd_exit, "?returnCode?", "end the program"),
+    ("time", cmd_time, "script ?count?", "time a script: microseconds per iteration"),
+    (
+        "info",
+        cmd_info,
+        "subcommand ?arg ...?",
+        "exists, commands, procs, complete, args, body, default, level, vars, locals, globals, script",
+    ),
+    ("rename", cmd_rename, "oldName newName", "rename or delete a command"),
+];
+
+/// What a loop does with the outcome of its body.
+enum Flow {
+    Next,
+    Stop,
+}
+
+fn loop_body(r: TclResult) -> Result<Flow, Exception> {
+    match r {
+        Ok(_) => Ok(Flow::Next),
+        Err(e) => match e.code {
+            Code::Break => Ok(Flow::Stop),
+            Code::Continue => Ok(Flow::Next),
+            _ => Err(e),
+        },
+    }
+}
+
+fn cmd_if(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    let mut i = 1;
+    loop {
+        if i >= argv.len() {
+            let after = argv[i - 1].as_str();
+            return Err(Exception::error(format!(
+                "wrong # args: no expression after \"{after}\" argument"
+            )));
+        }
+        let cond = interp.eval_cond(&argv[i])?;
+        i += 1;
+        if i < argv.len() && argv[i].as_str() == "then" {
+            i += 1;
+        }
+        if i >= argv.len() {
+            let after = argv[i - 1].as_str();
+            return Err(Exception::error(format!(
+                "wrong # args: no script following \"{after}\" argument"
+            )));
+        }
+        if cond {
+            return interp.eval(&argv[i]);
+        }
+        i += 1;
+        if i >= argv.len() {
+            return Ok(Value::empty());
+        }
+        match argv[i].as_str() {
+            "elseif" => i += 1,
+            "else" => {
+                i += 1;
+                if i >= argv.len() {
+                    return Err(Exception::error(
+                        "wrong # args: no script following \"else\" argument",
+                    ));
+                }
+                if i + 1 < argv.len() {
+                    return Err(Exception::error(
+                        "wrong # args: extra words after \"else\" clause in \"if\" command",
+                    ));
+                }
+                return interp.eval(&argv[i]);
+            }
+            _ => {
+                if i + 1 < argv.len() {
+                    return Err(Exception::error(
+                        "wrong # args: extra words after \"else\" clause in \"if\" command",
+                    ));
+                }
+                return interp.eval(&argv[i]);
+            }
+        }
+    }
+}
+
+fn cmd_expr(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "arg ?arg ...?")?;
+    if argv.len() == 2 {
+        return interp.eval_expr(&argv[1]);
+    }
+    interp.eval_expr(&concat(&argv[1..]))
+}
+
+fn cmd_while(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 3, 3, "test command")?;
+    while interp.eval_cond(&argv[1])? {
+        if let Flow::Stop = loop_body(interp.eval(&argv[2]))? {
+            break;
+        }
+    }
+    Ok(Value::empty())
+}
+
+fn cmd_for(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 5, 5, "start test next command")?;
+    interp.eval(&argv[1])?;
+    while interp.eval_cond(&argv[2])? {
+        if let Flow::Stop = loop_body(interp.eval(&argv[4]))? {
+            break;
+        }
+        interp.eval(&argv[3])?;
+    }
+    Ok(Value::empty())
+}
+
+fn cmd_foreach(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    if argv.len() < 4 || argv.len() % 2 != 0 {
+        return Err(Exception::wrong_args("foreach varList list ?varList list ...? command"));
+    }
+    let mut groups = Vec::new();
+    let mut n_iter = 0;
+    for pair in argv[1..argv.len() - 1].chunks(2) {
+        let vars = pair[0].as_list()?;
+        if vars.is_empty() {
+            return Err(Exception::error("foreach varlist is empty"));
+        }
+        let values = pair[1].as_list()?;
+        n_iter = n_iter.max(values.len().div_ceil(vars.len()));
+        groups.push((vars, values));
+    }
+    let body = &argv[argv.len() - 1];
+    for i in 0..n_iter {
+        for (vars, values) in &groups {
+            for (j, var) in vars.iter().enumerate() {
+                let v = values.get(i * vars.len() + j).cloned().unwrap_or_else(Value::empty);
+                interp.set_var(var.as_str(), v)?;
+            }
+        }
+        if let Flow::Stop = loop_body(interp.eval(body))? {
+            break;
+        }
+    }
+    Ok(Value::empty())
+}
+
+fn cmd_break(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 1, 1, "")?;
+    Err(Exception::flow(Code::Break, Value::empty()))
+}
+
+fn cmd_continue(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 1, 1, "")?;
+    Err(Exception::flow(Code::Continue, Value::empty()))
+}
+
+fn cmd_switch(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    let usage = "switch ?-option ...? string ?pattern body ...? ?default body?";
+    let mut i = 1;
+    let mut mode = "-exact";
+    let mut nocase = false;
+    while i < argv.len() && argv[i].as_str().starts_with('-') {
+        let opt = argv[i].as_str();
+        i += 1;
+        match opt {
+            "--" => break,
+            "-exact" | "-glob" => mode = if opt == "-exact" { "-exact" } else { "-glob" },
+            "-nocase" => nocase = true,
+            "-regexp" => {
+                return Err(Exception::error("switch -regexp is not supported by rayshell"));
+            }
+            _ => {
+                return Err(Exception::error(format!(
+                    "bad option \"{opt}\": must be -exact, -glob, -nocase, or --"
+                )));
+            }
+        }
+    }
+    if i >= argv.len() {
+        return Err(Exception::wrong_args(usage));
+    }
+    let subject = argv[i].as_str().to_string();
+    i += 1;
+    let pairs: Vec<Value> = match argv.len() - i {
+        0 => return Err(Exception::wrong_args(usage)),
+        1 => argv[i].as_list()?.to_vec(),
+        _ => argv[i..].to_vec(),
+    };
+    if pairs.len() % 2 != 0 {
+        return Err(Exception::error("extra switch pattern with no body"));
+    }
+    let fold = |s: &str| if nocase { s.to_lowercase() } else { s.to_string() };
+    for (k, pair) in pairs.chunks(2).enumerate() {
+        let pat = pair[0].as_str();
+        let is_last = k == pairs.len() / 2 - 1;
+        let hit = (is_last && pat == "default")
+            || match mode {
+                "-glob" => glob_match(pat, &subject, nocase),
+                _ => fold(pat) == fold(&subject),
+            };
+        if hit {
+            // Fall through bodies that are "-".
+            for body in pairs[k * 2..].chunks(2).map(|p| &p[1]) {
+                if body.as_str() != "-" {
+                    return interp.eval(body);
+                }
+            }
+            return Err(Exception::error(format!(
+                "no body specified for pattern \"{}\"",
+                pairs[pairs.len() - 2].as_str()
+            )));
+        }
+    }
+    Ok(Value::empty())
+}
+
+fn cmd_proc(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 4, 4, "name args body")?;
+    let spec = argv[2].as_list()?;
+    let mut params = Vec::new();
+    for p in spec.iter() {
+        let fields = p.as_list()?;
+        match fields.len() {
+            0 => return Err(Exception::error("argument with no name")),
+            1 => params.push((Rc::from(fields[0].as_str()), None)),
+            2 => params.push((Rc::from(fields[0].as_str()), Some(fields[1].clone()))),
+            _ => {
+                return Err(Exception::error(format!(
+                    "too many fields in argument specifier \"{}\"",
+                    p.as_str()
+                )));
+            }
+        }
+    }
+    let variadic = params
+        .last()
+        .is_some_and(|(n, d): &(Rc<str>, Option<Value>)| &**n == "args" && d.is_none());
+    let name = argv[1].as_str();
+    let name = name.strip_prefix("::").unwrap_or(name).to_string();
+    interp.define_proc(Proc {
+        name,
+        params,
+        variadic,
+        body: argv[3].clone(),
+        arg_spec: argv[2].clone(),
+    });
+    Ok(Value::empty())
+}
+
+fn parse_code(v: &Value) -> Result<Option<Code>, Exception> {
+    Ok(match v.as_str() {
+        "ok" | "0" => None,
+        "error" | "1" => Some(Code::Error),
+        "return" | "2" => Some(Code::Return),
+        "break" | "3" => Some(Code::Break),
+        "continue" | "4" => Some(Code::Continue),
+        s => {
+            return Err(Exception::error(format!(
+                "bad completion code \"{s}\": must be ok, error, return, break, continue, or an integer"
+            )));
+        }
+    })
+}
+
+fn cmd_return(_: &mut Interp, argv: &[Value]) -> TclResult {
+    let mut code = None;
+    let mut level = 1u32;
+    let mut error_code = None;
+    let mut i = 1;
+    while i + 1 < argv.len() {
+        match argv[i].as_str() {
+            "-code" => code = parse_code(&argv[i + 1])?,
+            "-level" => {
+                let l = argv[i + 1].as_int()?;
+                level = u32::try_from(l).map_err(|_| {
+                    Exception::error(format!(
+                        "bad -level value: expected non-negative integer but got \"{}\"",
+                        argv[i + 1].as_str()
+                    ))
+                })?;
+            }
+            "-errorcode" => error_code = Some(argv[i + 1].clone()),
+            "-errorinfo" | "-options" => {}
+            _ => break,
+        }
+        i += 2;
+    }
+    let value = if i < argv.len() { argv[i].clone() } else { Value::empty() };
+    if level == 0 {
+        return match code {
+            None => Ok(value),
+            Some(Code::Error) => {
+                let mut e = Exception::error(value.as_str().to_string());
+                e.error_code = error_code;
+                Err(e)
+            }
+            Some(c) => Err(Exception::flow(c, value)),
+        };
+    }
+    let mut e = Exception::flow(Code::Return, value);
+    e.return_code = code;
+    e.level = level;
+    e.error_code = error_code;
+    Err(e)
+}
+
+fn cmd_catch(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, 4, "script ?resultVarName? ?optionsVarName?")?;
+    let (code, value, e) = match interp.eval(&argv[1]) {
+        Ok(v) => (0, v, None),
+        Err(e) => match e.code {
+            Code::Exit(_) => return Err(e),
+            c => (c.as_int(), e.value.clone(), Some(e)),
+        },
+    };
+    if let Some(e) = &e {
+        if e.code == Code::Error {
+            interp.set_var("::errorInfo", Value::from(e.error_info()))?;
+            interp.set_var("::errorCode", e.error_code())?;
+        }
+    }
+    if argv.len() > 2 {
+        interp.set_var(argv[2].as_str(), value)?;
+    }
+    if argv.len() > 3 {
+        let mut opts = vec![Value::from("-code"), Value::from_int(code), Value::from("-level")];
+        opts.push(Value::from_int(0));
+        if let Some(e) = &e {
+            if e.code == Code::Error {
+                opts.extend([
+                    Value::from("-errorinfo"),
+                    Value::from(e.error_info()),
+                    Value::from("-errorcode"),
+                    e.error_code(),
+                    Value::from("-errorline"),
+                    Value::from_int(e.script_line as i64),
+                ]);
+            }
+        }
+        interp.set_var(argv[3].as_str(), Value::from_list(opts))?;
+    }
+    Ok(Value::from_int(code))
+}
+
+fn cmd_error(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, 4, "message ?errorInfo? ?errorCode?")?;
+    let mut e = Exception::error(argv[1].as_str().to_string());
+    if argv.len() > 2 && !argv[2].as_str().is_empty() {
+        e.trace = argv[2].as_str().to_string();
+        e.traced = true;
+    }
+    if argv.len() > 3 {
+        e.error_code = Some(argv[3].clone());
+    }
+    Err(e)
+}
+
+/// `concat` semantics: trim each argument and join with spaces.
+pub(crate) fn concat(args: &[Value]) -> Value {
+    if args.len() == 1 {
+        return args[0].clone();
+    }
+    let ws: &[char] = &[' ', '\t', '\n', '\r', '\x0b', '\x0c'];
+    let parts: Vec<&str> =
+        args.iter().map(|a| a.as_str().trim_matches(ws)).filter(|s| !s.is_empty()).collect();
+    Value::from_string(parts.join(" "))
+}
+
+fn cmd_eval(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "arg ?arg ...?")?;
+    interp.eval(&concat(&argv[1..]))
+}
+
+fn cmd_uplevel(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "?level? command ?arg ...?")?;
+    let first = argv[1].as_str();
+    let looks_like_level =
+        first.starts_with('#') || (!first.is_empty() && first.bytes().all(|c| c.is_ascii_digit()));
+    let (frame, rest) = if looks_like_level && argv.len() > 2 {
+        (interp.resolve_level(first)?, &argv[2..])
+    } else {
+        (interp.resolve_level("1")?, &argv[1..])
+    };
+    let script = concat(rest);
+    interp.in_frame(frame, |i| i.eval(&script))
+}
+
+fn cmd_source(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, 2, "fileName")?;
+    let path = argv[1].as_str();
+    let src = interp.host.read_file(path).map_err(|e| {
+        let why = match e.kind() {
+            std::io::ErrorKind::NotFound => "no such file or directory".to_string(),
+            std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
+            _ => e.to_string().to_lowercase(),
+        };
+        Exception::error(format!("couldn't read file \"{path}\": {why}"))
+    })?;
+    interp.eval_source(&src, Some(path))
+}
+
+fn cmd_exit(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 1, 2, "?returnCode?")?;
+    let code = if argv.len() == 2 { argv[1].as_int()? } else { 0 };
+    interp.flush();
+    Err(Exception::flow(Code::Exit(code as i32), Value::empty()))
+}
+
+fn cmd_time(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, 3, "script ?count?")?;
+    let count = if argv.len() == 3 { argv[2].as_int()? } else { 1 };
+    let start = Instant::now();
+    for _ in 0..count.max(0) {
+        interp.eval(&argv[1])?;
+    }
+    let per = if count > 0 { start.elapsed().as_secs_f64() * 1e6 / count as f64 } else { 0.0 };
+    let shown = if per == per.trunc() {
+        format!("{per}")
+    } else {
+        format!("{per:.6}").trim_end_matches('0').to_string()
+    };
+    Ok(Value::from_string(format!("{shown} microseconds per iteration")))
+}
+
+fn filter(names: Vec<String>, pattern: Option<&Value>) -> Value {
+    let items = names
+        .into_iter()
+        .filter(|n| pattern.is_none_or(|p| glob_match(p.as_str(), n, false)))
+        .map(Value::from_string)
+        .collect();
+    Value::from_list(items)
+}
+
+fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;
+    let sub = pick_option(
+        argv[1].as_str(),
+        &[
+            "args", "body", "commands", "complete", "default", "exists", "globals", "level",
+            "locals", "procs", "script", "vars",
+        ],
+        "option",
+    )?;
+    let proc_of = |interp: &Interp, name: &Value| {
+        interp
+            .get_proc(name.as_str())
+            .ok_or_else(|| Exception::error(format!("\"{}\" isn't a procedure", name.as_str())))
+    };
+    let args = &argv[2..];
+    let usage = |u: &str| {
+        Exception::wrong_args(&format!("info {sub}{}{u}", if u.is_empty() { "" } else { " " }))
+    };
+    match sub {
+        "exists" => {
+            if args.len() != 1 {
+                return Err(usage("varName"));
+            }
+            Ok(Value::from_bool(interp.var_exists(args[0].as_str())))
+        }
+        "commands" | "procs" => {
+            if args.len() > 1 {
+                return Err(usage("?pattern?"));
+            }
+            let names =
+                if sub == "commands" { interp.command_names() } else { interp.proc_names() };
+            Ok(filter(names, args.first()))
+        }
+        "complete" => {
+            if args.len() != 1 {
+                return Err(usage("command"));
+            }
+            Ok(Value::from_bool(parser::is_complete(args[0].as_str())))
+        }
+        "args" => {
+            if args.len() != 1 {
+                return Err(usage("procname"));
+            }
+            let p = proc_of(interp, &args[0])?;
+            Ok(Value::from_list(p.params.iter().map(|(n, _)| Value::from(&**n)).collect()))
+        }
+        "body" => {
+            if args.len() != 1 {
+                return Err(usage("procname"));
+            }
+            Ok(proc_of(interp, &args[0])?.body.clone())
+        }
+        "default" => {
+            if args.len() != 3 {
+                return Err(usage("procname arg varname"));
+            }
+            let p = proc_of(interp, &args[0])?;
+            let _ = &p.arg_spec;
+            let Some((_, d)) = p.params.iter().find(|(n, _)| &**n == args[1].as_str()) else {
+                return Err(Exception::error(format!(
+                    "procedure \"{}\" doesn't have an argument \"{}\"",
+                    args[0].as_str(),
+                    args[1].as_str()
+                )));
+            };
+            match d {
+                Some(d) => {
+                    interp.set_var(args[2].as_str(), d.clone())?;
+                    Ok(Value::from_int(1))
+                }
+                None => {
+                    interp.set_var(args[2].as_str(), Value::empty())?;
+                    Ok(Value::from_int(0))
+                }
+            }
+        }
+        "level" => match args.len() {
+            0 => Ok(Value::from_int(interp.level() as i64)),
+            1 => {
+                let n = args[0].as_int()?;
+                let spec = if n > 0 { format!("#{n}") } else { (-n).to_string() };
+                let f = interp
+                    .resolve_level(&spec)
+                    .map_err(|_| Exception::error(format!("bad level \"{}\"", args[0].as_str())))?;
+                Ok(Value::from_list(interp.frames[f].objv.clone()))
+            }
+            _ => Err(usage("?number?")),
+        },
+        "vars" | "locals" | "globals" => {
+            if args.len() > 1 {
+                return Err(usage("?pattern?"));
+            }
+            let frame = if sub == "globals" { 0 } else { interp.cur };
+            if sub == "locals" && interp.level() == 0 {
+                return Ok(Value::empty());
+            }
+            let mut names: Vec<String> = interp.frames[frame]
+                .vars
+                .iter()
+                .filter(|(_, c)| !matches!(*c.borrow(), Var::Undefined))
+                .map(|(k, _)| k.to_string())
+                .collect();
+            names.sort();
+            Ok(filter(names, args.first()))
+        }
+        "script" => Ok(interp.script_file.as_deref().map(Value::from).unwrap_or_else(Value::empty)),
+        _ => unreachable!("pick_option only returns listed names"),
+    }
+}
+
+fn cmd_rename(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 3, 3, "oldName newName")?;
+    interp.rename_command(argv[1].as_str(), argv[2].as_str())?;
+    Ok(Value::empty())
+}

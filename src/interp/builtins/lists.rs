@@ -1,0 +1,436 @@
+//! List commands: list, llength, lindex, lrange, lappend, linsert, lreplace,
+//! lassign, lsort, lsearch, lreverse, lrepeat, lset, concat, join, split.
+
+use std::cmp::Ordering;
+
+use super::super::error::{Exception, TclResult};
+use super::super::interp::{Interp, check_len};
+
+use super::super::value::Value;
+use super::control::concat;
+use super::{Entry, check_args, glob_match, parse_index, pick_option};
+
+pub(super) const COMMANDS: &[Entry] = &[
+    ("list", cmd_list, "?arg ...?", "make a list of the arguments"),
+    ("llength", cmd_llength, "list", "number of elements"),
+    ("lindex", cmd_lindex, "list ?index ...?", "an element (nested indices allowed)"),
+    ("lrange", cmd_lrange, "list first last", "a slice of a list"),
+    ("lappend", cmd_lappend, "varName ?value ...?", "append elements to a list variable"),
+    ("linsert", cmd_linsert, "list index ?element ...?", "insert elements"),
+    ("lreplace", cmd_lreplace, "list first last ?element ...?", "replace a range of elements"),
+    ("lassign", cmd_lassign, "list ?varName ...?", "assign elements to variables"),
+    ("lsort", cmd_lsort, "?-option value ...? list", "sort a list"),
+    ("lsearch", cmd_lsearch, "?-option ...? list pattern", "find elements"),
+    ("lreverse", cmd_lreverse, "list", "reverse a list"),
+    ("lrepeat", cmd_lrepeat, "count ?value ...?", "repeat elements"),
+    ("lset", cmd_lset, "listVar ?index? ?index ...? value", "change an element of a list variable"),
+    ("concat", cmd_concat, "?arg ...?", "join lists into one"),
+    ("join", cmd_join, "list ?joinString?", "join elements into a string"),
+    ("split", cmd_split, "string ?splitChars?", "split a string into a list"),
+];
+
+fn cmd_list(_: &mut Interp, argv: &[Value]) -> TclResult {
+    Ok(Value::from_list(argv[1..].to_vec()))
+}
+
+fn cmd_llength(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, 2, "list")?;
+    Ok(Value::from_int(argv[1].as_list()?.len() as i64))
+}
+
+fn index_into(list: &Value, idx: &Value) -> TclResult {
+    let items = list.as_list()?;
+    let i = parse_index(idx, items.len())?;
+    Ok(if i < 0 || i as usize >= items.len() { Value::empty() } else { items[i as usize].clone() })
+}
+
+fn cmd_lindex(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "list ?index ...?")?;
+    let indices: Vec<Value> = if argv.len() == 3 {
+        // A single index argument may itself be a list of indices.
+        match argv[2].as_list() {
+            Ok(l) if l.len() != 1 => l.to_vec(),
+            _ => vec![argv[2].clone()],
+        }
+    } else {
+        argv[2..].to_vec()
+    };
+    let mut cur = argv[1].clone();
+    for idx in &indices {
+        cur = index_into(&cur, idx)?;
+    }
+    Ok(cur)
+}
+
+/// Clamps a `first last` pair to a list of `len` elements.
+fn range(first: &Value, last: &Value, len: usize) -> Result<Option<(usize, usize)>, Exception> {
+    let f = parse_index(first, len)?.max(0);
+    let l = parse_index(last, len)?.min(len as i64 - 1);
+    Ok(if f > l { None } else { Some((f as usize, l as usize)) })
+}
+
+fn cmd_lrange(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 4, 4, "list first last")?;
+    let items = argv[1].as_list()?;
+    Ok(match range(&argv[2], &argv[3], items.len())? {
+        Some((f, l)) => Value::from_list(items[f..=l].to_vec()),
+        None => Value::empty(),
+    })
+}
+
+fn cmd_lappend(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "varName ?value ...?")?;
+    interp.update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| {
+        check_len(v.as_list()?.len() + argv.len())?;
+        v.list_append(&argv[2..])
+    })
+}
+
+fn cmd_linsert(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 3, usize::MAX, "list index ?element ...?")?;
+    let mut items = argv[1].as_list()?.to_vec();
+    let len = items.len();
+    let mut at = parse_index(&argv[2], len)?;
+    if argv[2].as_str().trim().starts_with("end") {
+        at += 1;
+    }
+    let at = at.clamp(0, len as i64) as usize;
+    check_len(len + argv.len())?;
+    items.splice(at..at, argv[3..].iter().cloned());
+    Ok(Value::from_list(items))
+}
+
+fn cmd_lreplace(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 4, usize::MAX, "list first last ?element ...?")?;
+    let mut items = argv[1].as_list()?.to_vec();
+    let len = items.len();
+    let first = parse_index(&argv[2], len)?.clamp(0, len as i64) as usize;
+    let last = parse_index(&argv[3], len)?;
+    let end = if last < first as i64 { first } else { (last as usize + 1).min(len) };
+    items.splice(first..end, argv[4..].iter().cloned());
+    Ok(Value::from_list(items))
+}
+
+fn cmd_lassign(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "list ?varName ...?")?;
+    let items = argv[1].as_list()?;
+    for (i, name) in argv[2..].iter().enumerate() {
+        interp.set_var(name.as_str(), items.get(i).cloned().unwrap_or_else(Value::empty))?;
+    }
+    let rest = items.get(argv.len() - 2..).map(|r| r.to_vec()).unwrap_or_default();
+    Ok(Value::from_list(rest))
+}
+
+/// Tcl's `-dictionary` order: case-insensitive, digit runs as numbers.
+fn dictionary_cmp(a: &str, b: &str) -> Ordering {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let (mut i, mut j) = (0, 0);
+    let mut case_tiebreak = Ordering::Equal;
+    while i < a.len() && j < b.len() {
+        if a[i].is_ascii_digit() && b[j].is_ascii_digit() {
+            let si = i;
+            while i < a.len() && a[i].is_ascii_digit() {
+                i += 1;
+            }
+            let sj = j;
+            while j < b.len() && b[j].is_ascii_digit() {
+                j += 1;
+            }
+            let na: String = a[si..i].iter().collect::<String>().trim_start_matches('0').into();
+            let nb: String = b[sj..j].iter().collect::<String>().trim_start_matches('0').into();
+            let o = na.len().cmp(&nb.len()).then_with(|| na.cmp(&nb));
+            if o != Ordering::Equal {
+                return o;
+            }
+            continue;
+        }
+        let (ca, cb) = (a[i], b[j]);
+        let (la, lb) =
+            (ca.to_lowercase().next().unwrap_or(ca), cb.to_lowercase().next().unwrap_or(cb));
+        if la != lb {
+            return la.cmp(&lb);
+        }
+        if case_tiebreak == Ordering::Equal && ca != cb {
+            case_tiebreak = if ca.is_uppercase() { Ordering::Less } else { Ordering::Greater };
+        }
+        i += 1;
+        j += 1;
+    }
+    (a.len() - i).cmp(&(b.len() - j)).then(case_tiebreak)
+}
+
+fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "?-option value ...? list")?;
+    let mut mode = "-ascii";
+    let mut decreasing = false;
+    let mut unique = false;
+    let mut nocase = false;
+    let mut index: Option<Value> = None;
+    let mut command: Option<Value> = None;
+    let mut i = 1;
+    while i < argv.len() - 1 {
+        let opt = pick_option(
+            argv[i].as_str(),
+            &[
+                "-ascii",
+                "-command",
+                "-decreasing",
+                "-dictionary",
+                "-increasing",
+                "-index",
+                "-integer",
+                "-nocase",
+                "-real",
+                "-unique",
+            ],
+            "option",
+        )?;
+        match opt {
+            "-ascii" | "-dictionary" | "-integer" | "-real" => mode = opt,
+            "-increasing" => decreasing = false,
+            "-decreasing" => decreasing = true,
+            "-unique" => unique = true,
+            "-nocase" => nocase = true,
+            "-index" | "-command" => {
+                i += 1;
+                if i >= argv.len() - 1 {
+                    return Err(Exception::error(format!(
+                        "\"{opt}\" option must be followed by {}",
+                        if opt == "-index" { "list index" } else { "comparison command" }
+                    )));
+                }
+                if opt == "-index" {
+                    index = Some(argv[i].clone());
+                } else {
+                    command = Some(argv[i].clone());
+                }
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    let items = argv[argv.len() - 1].as_list()?;
+    let mut keyed: Vec<(Value, Value)> = Vec::with_capacity(items.len());
+    for it in items.iter() {
+        let key = match &index {
+            Some(idx) => {
+                let sub = it.as_list()?;
+                let k = parse_index(idx, sub.len())?;
+                if k < 0 || k as usize >= sub.len() {
+                    return Err(Exception::error(format!(
+                        "element {} missing from sublist \"{}\"",
+                        idx.as_str(),
+                        it.as_str()
+                    )));
+                }
+                sub[k as usize].clone()
+            }
+            None => it.clone(),
+        };
+        if mode == "-integer" {
+            key.as_int()?;
+        } else if mode == "-real" {
+            key.as_f64()?;
+        }
+        keyed.push((key, it.clone()));
+    }
+    let err: std::cell::RefCell<Option<Exception>> = std::cell::RefCell::new(None);
+    let mut cmp = |a: &Value, b: &Value| -> Ordering {
+        if err.borrow().is_some() {
+            return Ordering::Equal;
+        }
+        let o = match mode {
+            "-integer" => a.as_int().unwrap_or(0).cmp(&b.as_int().unwrap_or(0)),
+            "-real" => a
+                .as_f64()
+                .unwrap_or(0.0)
+                .partial_cmp(&b.as_f64().unwrap_or(0.0))
+                .unwrap_or(Ordering::Equal),
+            "-dictionary" => dictionary_cmp(a.as_str(), b.as_str()),
+            _ if command.is_some() => {
+                let cmd = command.as_ref().expect("checked");
+                let mut words = cmd.as_list().map(|l| l.to_vec()).unwrap_or_default();
+                words.push(a.clone());
+                words.push(b.clone());
+                match interp.invoke(&words).and_then(|r| r.as_int()) {
+                    Ok(n) => n.cmp(&0),
+                    Err(e) => {
+                        *err.borrow_mut() = Some(e);
+                        Ordering::Equal
+                    }
+                }
+            }
+            _ if nocase => a.as_str().to_lowercase().cmp(&b.as_str().to_lowercase()),
+            _ => a.as_str().cmp(b.as_str()),
+        };
+        if decreasing { o.reverse() } else { o }
+    };
+    keyed.sort_by(|a, b| cmp(&a.0, &b.0));
+    if let Some(e) = err.borrow_mut().take() {
+        return Err(e);
+    }
+    if unique {
+        let mut out: Vec<(Value, Value)> = Vec::with_capacity(keyed.len());
+        for kv in keyed {
+            // Keep the last of a run of equal keys, as Tcl does.
+            if let Some(prev) = out.last() {
+                if cmp(&prev.0, &kv.0) == Ordering::Equal {
+                    out.pop();
+                }
+            }
+            out.push(kv);
+        }
+        keyed = out;
+    }
+    Ok(Value::from_list(keyed.into_iter().map(|(_, v)| v).collect()))
+}
+
+fn cmd_lsearch(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 3, usize::MAX, "?-option value ...? list pattern")?;
+    let mut mode = "-glob";
+    let (mut all, mut inline, mut not, mut nocase) = (false, false, false, false);
+    let mut start = 0i64;
+    let mut i = 1;
+    while i < argv.len() - 2 {
+        let opt = pick_option(
+            argv[i].as_str(),
+            &[
+                "-all", "-ascii", "-exact", "-glob", "-inline", "-integer", "-nocase", "-not",
+                "-real", "-sorted", "-start",
+            ],
+            "option",
+        )?;
+        match opt {
+            "-all" => all = true,
+            "-inline" => inline = true,
+            "-not" => not = true,
+            "-nocase" => nocase = true,
+            "-exact" | "-glob" | "-integer" | "-real" => mode = opt,
+            "-sorted" => mode = if mode == "-glob" { "-exact" } else { mode },
+            "-start" => {
+                i += 1;
+                if i >= argv.len() - 2 {
+                    return Err(Exception::error("missing starting index"));
+                }
+                start = argv[i].as_int()?.max(0);
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    let items = argv[argv.len() - 2].as_list()?;
+    let pattern = &argv[argv.len() - 1];
+    let mut hits = Vec::new();
+    for (k, it) in items.iter().enumerate().skip(start as usize) {
+        let m = match mode {
+            "-exact" if nocase => it.as_str().to_lowercase() == pattern.as_str().to_lowercase(),
+            "-exact" => it.as_str() == pattern.as_str(),
+            "-integer" => it.as_int().ok() == Some(pattern.as_int()?),
+            "-real" => it.as_f64().ok() == Some(pattern.as_f64()?),
+            _ => glob_match(pattern.as_str(), it.as_str(), nocase),
+        };
+        if m != not {
+            hits.push(if inline { it.clone() } else { Value::from_int(k as i64) });
+            if !all {
+                break;
+            }
+        }
+    }
+    Ok(if all {
+        Value::from_list(hits)
+    } else {
+        hits.pop().unwrap_or_else(|| if inline { Value::empty() } else { Value::from_int(-1) })
+    })
+}
+
+fn cmd_lreverse(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, 2, "list")?;
+    let mut items = argv[1].as_list()?.to_vec();
+    items.reverse();
+    Ok(Value::from_list(items))
+}
+
+fn cmd_lrepeat(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "count ?value ...?")?;
+    let n = argv[1].as_int()?;
+    if n < 0 {
+        return Err(Exception::error(format!("bad count \"{n}\": must be integer >= 0")));
+    }
+    let total = (n as usize).saturating_mul(argv.len() - 2);
+    check_len(total)?;
+    let mut out = Vec::with_capacity(total);
+    for _ in 0..n {
+        out.extend_from_slice(&argv[2..]);
+    }
+    Ok(Value::from_list(out))
+}
+
+fn set_nested(list: &Value, indices: &[Value], v: Value) -> TclResult {
+    let Some((first, rest)) = indices.split_first() else { return Ok(v) };
+    let mut items = list.as_list()?.to_vec();
+    let i = parse_index(first, items.len())?;
+    if i < 0 || i as usize > items.len() || (i as usize == items.len() && !rest.is_empty()) {
+        return Err(Exception::error("list index out of range"));
+    }
+    let i = i as usize;
+    if i == items.len() {
+        items.push(v);
+    } else {
+        items[i] = set_nested(&items[i], rest, v)?;
+    }
+    Ok(Value::from_list(items))
+}
+
+fn cmd_lset(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 3, usize::MAX, "listVar ?index? ?index ...? value")?;
+    let cur = interp.get_var(argv[1].as_str())?;
+    let value = argv[argv.len() - 1].clone();
+    let indices: Vec<Value> = if argv.len() == 4 {
+        argv[2].as_list()?.to_vec()
+    } else {
+        argv[2..argv.len() - 1].to_vec()
+    };
+    let new = set_nested(&cur, &indices, value)?;
+    interp.set_var(argv[1].as_str(), new)
+}
+
+fn cmd_concat(_: &mut Interp, argv: &[Value]) -> TclResult {
+    if argv.len() == 1 {
+        return Ok(Value::empty());
+    }
+    let v = concat(&argv[1..]);
+    Ok(if argv.len() == 2 {
+        Value::from(v.as_str().trim_matches(|c: char| c.is_ascii_whitespace()))
+    } else {
+        v
+    })
+}
+
+fn cmd_join(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, 3, "list ?joinString?")?;
+    let sep = if argv.len() == 3 { argv[2].as_str() } else { " " };
+    let items = argv[1].as_list()?;
+    let parts: Vec<&str> = items.iter().map(|v| v.as_str()).collect();
+    let total: usize = parts.iter().map(|p| p.len() + sep.len()).sum();
+    check_len(total)?;
+    Ok(Value::from_string(parts.join(sep)))
+}
+
+fn cmd_split(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, 3, "string ?splitChars?")?;
+    let s = argv[1].as_str();
+    let seps: Vec<char> = if argv.len() == 3 {
+        argv[2].as_str().chars().collect()
+    } else {
+        vec![' ', '\t', '\n', '\r']
+    };
+    if s.is_empty() {
+        return Ok(Value::empty());
+    }
+    let items: Vec<Value> = if seps.is_empty() {
+        s.chars().map(|c| Value::from_string(c.to_string())).collect()
+    } else {
+        s.split(|c| seps.contains(&c)).map(Value::from).collect()
+    };
+    Ok(Value::from_list(items))
+}

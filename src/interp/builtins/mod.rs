@@ -1,0 +1,199 @@
+//! The built-in Tcl commands, registered in one table (`register_all`), with
+//! the usage line each one reports in `wrong # args` and in `help`.
+
+mod control;
+mod lists;
+mod strings;
+mod vars;
+
+use super::error::Exception;
+use super::interp::{Interp, NativeFn};
+use super::value::Value;
+
+type Entry = (&'static str, NativeFn, &'static str, &'static str);
+
+pub(crate) fn register_all(interp: &mut Interp) {
+    let tables: [&[Entry]; 4] =
+        [control::COMMANDS, vars::COMMANDS, lists::COMMANDS, strings::COMMANDS];
+    for table in tables {
+        for (name, f, usage, summary) in table {
+            interp.register(name, *f, usage, summary);
+        }
+    }
+}
+
+/// Checks the argument count: `min..=max` words including the command name.
+pub(crate) fn check_args(
+    argv: &[Value],
+    min: usize,
+    max: usize,
+    usage: &str,
+) -> Result<(), Exception> {
+    if argv.len() < min || argv.len() > max {
+        let name = argv[0].as_str();
+        return Err(Exception::wrong_args(&if usage.is_empty() {
+            name.to_string()
+        } else {
+            format!("{name} {usage}")
+        }));
+    }
+    Ok(())
+}
+
+/// Parses a Tcl index (`3`, `end`, `end-1`, `2+1`) against a length.
+/// Returns an index that may be out of range (negative or >= len).
+pub(crate) fn parse_index(v: &Value, len: usize) -> Result<i64, Exception> {
+    let s = v.as_str().trim();
+    let bad = || {
+        Exception::error(format!(
+            "bad index \"{}\": must be integer?[+-]integer? or end?[+-]integer?",
+            v.as_str()
+        ))
+    };
+    let int = |t: &str| super::number::parse_int(t).filter(|_| !t.trim().is_empty());
+    if let Some(rest) = s.strip_prefix("end") {
+        let end = len as i64 - 1;
+        if rest.is_empty() {
+            return Ok(end);
+        }
+        let (sign, num) = rest.split_at(1);
+        let n = int(num).ok_or_else(bad)?;
+        return match sign {
+            "-" => Ok(end - n),
+            "+" => Ok(end + n),
+            _ => Err(bad()),
+        };
+    }
+    if let Some(i) = int(s) {
+        return Ok(i);
+    }
+    // a+b or a-b
+    if let Some(pos) = s[1..].find(['+', '-']).map(|p| p + 1) {
+        let (a, b) = (int(&s[..pos]).ok_or_else(bad)?, int(&s[pos + 1..]).ok_or_else(bad)?);
+        return Ok(if &s[pos..pos + 1] == "+" { a + b } else { a - b });
+    }
+    Err(bad())
+}
+
+/// Tcl's `string match` glob: `*`, `?`, `[a-z]`, `\x`.
+pub(crate) fn glob_match(pattern: &str, s: &str, nocase: bool) -> bool {
+    let fold = |c: char| if nocase { c.to_lowercase().next().unwrap_or(c) } else { c };
+    let p: Vec<char> = pattern.chars().map(fold).collect();
+    let t: Vec<char> = s.chars().map(fold).collect();
+    fn rec(p: &[char], t: &[char]) -> bool {
+        let (mut pi, mut ti) = (0, 0);
+        let mut star: Option<(usize, usize)> = None;
+        loop {
+            if pi < p.len() {
+                match p[pi] {
+                    '*' => {
+                        while pi < p.len() && p[pi] == '*' {
+                            pi += 1;
+                        }
+                        if pi == p.len() {
+                            return true;
+                        }
+                        star = Some((pi, ti));
+                        continue;
+                    }
+                    '?' if ti < t.len() => {
+                        pi += 1;
+                        ti += 1;
+                        continue;
+                    }
+                    '[' if ti < t.len() => {
+                        let mut j = pi + 1;
+                        let mut matched = false;
+                        while j < p.len() && p[j] != ']' {
+                            let lo = p[j];
+                            let mut hi = lo;
+                            if j + 2 < p.len() && p[j + 1] == '-' && p[j + 2] != ']' {
+                                hi = p[j + 2];
+                                j += 2;
+                            }
+                            let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+                            if a <= t[ti] && t[ti] <= b {
+                                matched = true;
+                            }
+                            j += 1;
+                        }
+                        if matched {
+                            pi = (j + 1).min(p.len());
+                            ti += 1;
+                            continue;
+                        }
+                    }
+                    '\\' if pi + 1 < p.len() && ti < t.len() && p[pi + 1] == t[ti] => {
+                        pi += 2;
+                        ti += 1;
+                        continue;
+                    }
+                    c if c != '\\' && ti < t.len() && c == t[ti] => {
+                        pi += 1;
+                        ti += 1;
+                        continue;
+                    }
+                    _ => {}
+                }
+            } else if ti == t.len() {
+                return true;
+            }
+            match star {
+                Some((sp, st)) if st < t.len() => {
+                    star = Some((sp, st + 1));
+                    pi = sp;
+                    ti = st + 1;
+                }
+                _ => return false,
+            }
+        }
+    }
+    rec(&p, &t)
+}
+
+/// Matches a unique prefix of one of `options` (Tcl's `Tcl_GetIndexFromObj`).
+pub(crate) fn pick_option<'a>(
+    given: &str,
+    options: &[&'a str],
+    what: &str,
+) -> Result<&'a str, Exception> {
+    if let Some(o) = options.iter().find(|o| **o == given) {
+        return Ok(o);
+    }
+    let matches: Vec<&&str> = options.iter().filter(|o| o.starts_with(given)).collect();
+    if matches.len() == 1 && !given.is_empty() {
+        return Ok(matches[0]);
+    }
+    let kind = if matches.len() > 1 { "ambiguous" } else { "bad" };
+    let list = match options.len() {
+        1 => options[0].to_string(),
+        n => format!("{}, or {}", options[..n - 1].join(", "), options[n - 1]),
+    };
+    Err(Exception::error(format!("{kind} {what} \"{given}\": must be {list}")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn globs() {
+        assert!(glob_match("a*c", "abbbc", false));
+        assert!(glob_match("a?c", "abc", false));
+        assert!(!glob_match("a?c", "ac", false));
+        assert!(glob_match("[a-c]x", "bx", false));
+        assert!(glob_match("*.tsd", "teapot.tsd", false));
+        assert!(glob_match("A*", "abc", true));
+        assert!(glob_match("a\\*", "a*", false));
+        assert!(!glob_match("a\\*", "ab", false));
+    }
+
+    #[test]
+    fn indices() {
+        let v = |s: &str| Value::from(s);
+        assert_eq!(parse_index(&v("end"), 5).unwrap(), 4);
+        assert_eq!(parse_index(&v("end-1"), 5).unwrap(), 3);
+        assert_eq!(parse_index(&v("1+2"), 5).unwrap(), 3);
+        assert!(parse_index(&v("x"), 5).is_err());
+    }
+}

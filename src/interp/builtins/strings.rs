@@ -1,0 +1,428 @@
+//! String commands: string (all subcommands listed in the README), format
+//! and puts. String indices count characters, not bytes.
+
+use super::super::error::{Exception, TclResult};
+use super::super::format;
+use super::super::interp::{Interp, check_len};
+use super::super::number;
+use super::super::value::Value;
+use super::{Entry, check_args, glob_match, parse_index, pick_option};
+
+pub(super) const COMMANDS: &[Entry] = &[
+    (
+        "string",
+        cmd_string,
+        "subcommand ?arg ...?",
+        "length, index, range, compare, equal, match, map, trim, is, ...",
+    ),
+    ("format", cmd_format, "formatString ?arg ...?", "printf-style formatting"),
+    ("puts", cmd_puts, "?-nonewline? ?channelId? string", "print a line to stdout or stderr"),
+];
+
+const SUBCOMMANDS: &[&str] = &[
+    "bytelength",
+    "cat",
+    "compare",
+    "equal",
+    "first",
+    "index",
+    "is",
+    "last",
+    "length",
+    "map",
+    "match",
+    "range",
+    "repeat",
+    "replace",
+    "reverse",
+    "tolower",
+    "totitle",
+    "toupper",
+    "trim",
+    "trimleft",
+    "trimright",
+    "wordend",
+    "wordstart",
+];
+
+const TRIM_DEFAULT: &str = " \t\n\r\x0b\x0c\0";
+
+fn chars(s: &str) -> Vec<char> {
+    s.chars().collect()
+}
+
+fn char_len(s: &str) -> usize {
+    if s.is_ascii() { s.len() } else { s.chars().count() }
+}
+
+/// Characters `first..=last` (clamped) as a string.
+fn char_range(s: &str, first: i64, last: i64) -> String {
+    let len = char_len(s) as i64;
+    let f = first.max(0);
+    let l = last.min(len - 1);
+    if f > l {
+        return String::new();
+    }
+    if s.is_ascii() {
+        return s[f as usize..=l as usize].to_string();
+    }
+    s.chars().skip(f as usize).take((l - f + 1) as usize).collect()
+}
+
+fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;
+    let sub = pick_option(argv[1].as_str(), SUBCOMMANDS, "subcommand").map_err(|_| {
+        Exception::error(format!(
+            "unknown or ambiguous subcommand \"{}\": must be {}, or {}",
+            argv[1].as_str(),
+            SUBCOMMANDS[..SUBCOMMANDS.len() - 1].join(", "),
+            SUBCOMMANDS[SUBCOMMANDS.len() - 1]
+        ))
+    })?;
+    let a = &argv[2..];
+    let usage = |u: &str| Exception::wrong_args(&format!("string {sub} {u}"));
+    let _ = interp;
+    match sub {
+        "length" => {
+            if a.len() != 1 {
+                return Err(usage("string"));
+            }
+            Ok(Value::from_int(char_len(a[0].as_str()) as i64))
+        }
+        "index" => {
+            if a.len() != 2 {
+                return Err(usage("string charIndex"));
+            }
+            let s = a[0].as_str();
+            let i = parse_index(&a[1], char_len(s))?;
+            Ok(Value::from_string(char_range(s, i, i)))
+        }
+        "range" => {
+            if a.len() != 3 {
+                return Err(usage("string first last"));
+            }
+            let s = a[0].as_str();
+            let n = char_len(s);
+            Ok(Value::from_string(char_range(s, parse_index(&a[1], n)?, parse_index(&a[2], n)?)))
+        }
+        "replace" => {
+            if a.len() < 3 || a.len() > 4 {
+                return Err(usage("string first last ?string?"));
+            }
+            let s = chars(a[0].as_str());
+            let n = s.len() as i64;
+            let f = parse_index(&a[1], s.len())?;
+            let l = parse_index(&a[2], s.len())?;
+            if l < f || l < 0 || f >= n {
+                return Ok(a[0].clone());
+            }
+            let (f, l) = (f.max(0) as usize, l.min(n - 1) as usize);
+            let mut out: String = s[..f].iter().collect();
+            if a.len() == 4 {
+                out.push_str(a[3].as_str());
+            }
+            out.extend(&s[l + 1..]);
+            Ok(Value::from_string(out))
+        }
+        "toupper" | "tolower" | "totitle" => {
+            if a.len() != 1 {
+                return Err(usage("string ?first? ?last?"));
+            }
+            let s = a[0].as_str();
+            Ok(Value::from_string(match sub {
+                "toupper" => s.to_uppercase(),
+                "tolower" => s.to_lowercase(),
+                _ => {
+                    let mut it = s.chars();
+                    match it.next() {
+                        Some(c) => {
+                            c.to_uppercase().collect::<String>() + &it.as_str().to_lowercase()
+                        }
+                        None => String::new(),
+                    }
+                }
+            }))
+        }
+        "equal" | "compare" => {
+            let u = "?-nocase? ?-length int? string1 string2";
+            if a.len() < 2 {
+                return Err(usage(u));
+            }
+            let mut nocase = false;
+            let mut length: Option<i64> = None;
+            let mut i = 0;
+            while i < a.len() - 2 {
+                match a[i].as_str() {
+                    "-nocase" => nocase = true,
+                    "-length" if i + 1 < a.len() - 2 => {
+                        i += 1;
+                        length = Some(a[i].as_int()?);
+                    }
+                    _ => return Err(usage(u)),
+                }
+                i += 1;
+            }
+            let prep = |v: &Value| -> String {
+                let s = if nocase { v.as_str().to_lowercase() } else { v.as_str().to_string() };
+                match length {
+                    Some(n) if n >= 0 => s.chars().take(n as usize).collect(),
+                    _ => s,
+                }
+            };
+            let (x, y) = (prep(&a[a.len() - 2]), prep(&a[a.len() - 1]));
+            Ok(Value::from_int(if sub == "equal" {
+                (x == y) as i64
+            } else {
+                match x.cmp(&y) {
+                    std::cmp::Ordering::Less => -1,
+                    std::cmp::Ordering::Equal => 0,
+                    std::cmp::Ordering::Greater => 1,
+                }
+            }))
+        }
+        "match" => {
+            let (nocase, rest) = match a {
+                [o, p, s] if o.as_str() == "-nocase" => (true, [p, s]),
+                [p, s] => (false, [p, s]),
+                _ => return Err(usage("?-nocase? pattern string")),
+            };
+            Ok(Value::from_bool(glob_match(rest[0].as_str(), rest[1].as_str(), nocase)))
+        }
+        "first" | "last" => {
+            if a.len() < 2 || a.len() > 3 {
+                return Err(usage("needleString haystackString ?startIndex?"));
+            }
+            let needle = chars(a[0].as_str());
+            let hay = chars(a[1].as_str());
+            let n = hay.len();
+            if needle.is_empty() || needle.len() > n {
+                return Ok(Value::from_int(-1));
+            }
+            let found = if sub == "first" {
+                let start = if a.len() == 3 { parse_index(&a[2], n)?.max(0) as usize } else { 0 };
+                (start..=n - needle.len()).find(|&i| hay[i..i + needle.len()] == needle[..])
+            } else {
+                let last = if a.len() == 3 { parse_index(&a[2], n)? } else { n as i64 - 1 };
+                if last < 0 {
+                    None
+                } else {
+                    let top = (last as usize).min(n - needle.len());
+                    (0..=top).rev().find(|&i| hay[i..i + needle.len()] == needle[..])
+                }
+            };
+            Ok(Value::from_int(found.map(|i| i as i64).unwrap_or(-1)))
+        }
+        "trim" | "trimleft" | "trimright" => {
+            if a.is_empty() || a.len() > 2 {
+                return Err(usage("string ?chars?"));
+            }
+            let set: Vec<char> =
+                if a.len() == 2 { chars(a[1].as_str()) } else { chars(TRIM_DEFAULT) };
+            let s = a[0].as_str();
+            let t = match sub {
+                "trim" => s.trim_matches(|c| set.contains(&c)),
+                "trimleft" => s.trim_start_matches(|c| set.contains(&c)),
+                _ => s.trim_end_matches(|c| set.contains(&c)),
+            };
+            Ok(Value::from(t))
+        }
+        "map" => {
+            let (nocase, map, s) = match a {
+                [o, m, s] if o.as_str() == "-nocase" => (true, m, s),
+                [m, s] => (false, m, s),
+                _ => return Err(usage("?-nocase? charMap string")),
+            };
+            let pairs = map.as_list()?;
+            if pairs.len() % 2 != 0 {
+                return Err(Exception::error("char map list unbalanced"));
+            }
+            let keys: Vec<(Vec<char>, &str)> = pairs
+                .chunks(2)
+                .map(|kv| {
+                    let k = if nocase {
+                        kv[0].as_str().to_lowercase()
+                    } else {
+                        kv[0].as_str().to_string()
+                    };
+                    (chars(&k), kv[1].as_str())
+                })
+                .collect();
+            let src = chars(s.as_str());
+            let cmp_src: Vec<char> =
+                if nocase { chars(&s.as_str().to_lowercase()) } else { src.clone() };
+            let mut out = String::new();
+            let mut i = 0;
+            'outer: while i < src.len() {
+                for (k, v) in &keys {
+                    if !k.is_empty()
+                        && cmp_src.len() >= i + k.len()
+                        && cmp_src[i..i + k.len()] == k[..]
+                    {
+                        out.push_str(v);
+                        i += k.len();
+                        check_len(out.len())?;
+                        continue 'outer;
+                    }
+                }
+                out.push(src[i]);
+                i += 1;
+            }
+            Ok(Value::from_string(out))
+        }
+        "repeat" => {
+            if a.len() != 2 {
+                return Err(usage("string count"));
+            }
+            let n = a[1].as_int()?.max(0) as usize;
+            check_len(n.saturating_mul(a[0].as_str().len()))?;
+            Ok(Value::from_string(a[0].as_str().repeat(n)))
+        }
+        "reverse" => {
+            if a.len() != 1 {
+                return Err(usage("string"));
+            }
+            Ok(Value::from_string(a[0].as_str().chars().rev().collect()))
+        }
+        "cat" => {
+            let mut out = String::new();
+            for v in a {
+                out.push_str(v.as_str());
+            }
+            check_len(out.len())?;
+            Ok(Value::from_string(out))
+        }
+        "is" => string_is(a),
+        "bytelength" => {
+            if a.len() != 1 {
+                return Err(usage("string"));
+            }
+            Ok(Value::from_int(a[0].as_str().len() as i64))
+        }
+        "wordend" | "wordstart" => {
+            if a.len() != 2 {
+                return Err(usage("string index"));
+            }
+            let s = chars(a[0].as_str());
+            let n = s.len();
+            let i = parse_index(&a[1], n)?.clamp(0, n.saturating_sub(1) as i64) as usize;
+            let word = |c: char| c.is_alphanumeric() || c == '_';
+            if n == 0 {
+                return Ok(Value::from_int(if sub == "wordend" { 1 } else { 0 }));
+            }
+            let r = if sub == "wordend" {
+                let mut j = i;
+                if word(s[i]) {
+                    while j < n && word(s[j]) {
+                        j += 1;
+                    }
+                } else {
+                    j += 1;
+                }
+                j
+            } else {
+                let mut j = i;
+                if word(s[i]) {
+                    while j > 0 && word(s[j - 1]) {
+                        j -= 1;
+                    }
+                }
+                j
+            };
+            Ok(Value::from_int(r as i64))
+        }
+        _ => unreachable!("pick_option only returns listed names"),
+    }
+}
+
+fn string_is(a: &[Value]) -> TclResult {
+    const CLASSES: &[&str] = &[
+        "alnum",
+        "alpha",
+        "ascii",
+        "boolean",
+        "control",
+        "digit",
+        "double",
+        "entier",
+        "false",
+        "graph",
+        "integer",
+        "list",
+        "lower",
+        "print",
+        "punct",
+        "space",
+        "true",
+        "upper",
+        "wideinteger",
+        "wordchar",
+        "xdigit",
+    ];
+    if a.len() < 2 {
+        return Err(Exception::wrong_args("string is class ?-strict? ?-failindex var? str"));
+    }
+    let class = pick_option(a[0].as_str(), CLASSES, "class")?;
+    let strict = a[1..a.len() - 1].iter().any(|o| o.as_str() == "-strict");
+    let v = &a[a.len() - 1];
+    let s = v.as_str();
+    if s.is_empty() {
+        return Ok(Value::from_bool(!strict));
+    }
+    let all = |f: fn(char) -> bool| s.chars().all(f);
+    let r = match class {
+        "alnum" => all(char::is_alphanumeric),
+        "alpha" => all(char::is_alphabetic),
+        "ascii" => s.is_ascii(),
+        "boolean" => number::parse_bool(s).is_some() || matches!(number::parse_int(s), Some(0 | 1)),
+        "true" => {
+            number::parse_bool(s) == Some(true) || number::parse_int(s).is_some_and(|i| i != 0)
+        }
+        "false" => number::parse_bool(s) == Some(false) || number::parse_int(s) == Some(0),
+        "control" => all(char::is_control),
+        "digit" => all(|c| c.is_ascii_digit()),
+        "double" => number::parse_double(s).is_some(),
+        "integer" | "wideinteger" | "entier" => number::parse_int(s).is_some(),
+        "graph" => all(|c| !c.is_whitespace() && !c.is_control()),
+        "print" => all(|c| !c.is_control()),
+        "punct" => all(|c| c.is_ascii_punctuation()),
+        "list" => v.as_list().is_ok(),
+        "lower" => all(char::is_lowercase),
+        "upper" => all(char::is_uppercase),
+        "space" => all(char::is_whitespace),
+        "wordchar" => all(|c| c.is_alphanumeric() || c == '_'),
+        _ => all(|c| c.is_ascii_hexdigit()),
+    };
+    Ok(Value::from_bool(r))
+}
+
+fn cmd_format(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "formatString ?arg ...?")?;
+    Ok(Value::from_string(format::format(argv[1].as_str(), &argv[2..])?))
+}
+
+fn cmd_puts(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    let usage = "?-nonewline? ?channelId? string";
+    check_args(argv, 2, 4, usage)?;
+    let mut args = &argv[1..];
+    let mut newline = true;
+    if args.len() > 1 && args[0].as_str() == "-nonewline" {
+        newline = false;
+        args = &args[1..];
+    }
+    let (chan, text) = match args {
+        [t] => ("stdout", t),
+        [c, t] => (c.as_str(), t),
+        _ => return Err(Exception::wrong_args(&format!("puts {usage}"))),
+    };
+    let mut s = String::with_capacity(text.as_str().len() + 1);
+    s.push_str(text.as_str());
+    if newline {
+        s.push('\n');
+    }
+    match chan {
+        "stdout" => interp.write_stdout(&s)?,
+        "stderr" => interp.write_stderr(&s)?,
+        other => return Err(Exception::error(format!("can not find channel named \"{other}\""))),
+    }
+    Ok(Value::empty())
+}

@@ -1,0 +1,213 @@
+//! Variables: set, unset, append, incr, global, upvar, array.
+
+use indexmap::IndexMap;
+
+use super::super::error::{Exception, TclResult};
+use super::super::interp::{Interp, Var, check_len};
+use super::super::value::Value;
+use super::{Entry, check_args, glob_match, pick_option};
+
+pub(super) const COMMANDS: &[Entry] = &[
+    ("set", cmd_set, "varName ?newValue?", "read or write a variable"),
+    ("unset", cmd_unset, "?-nocomplain? ?--? ?varName ...?", "delete variables"),
+    ("append", cmd_append, "varName ?value ...?", "append strings to a variable"),
+    ("incr", cmd_incr, "varName ?increment?", "add to an integer variable"),
+    ("global", cmd_global, "?varName ...?", "use global variables in a procedure"),
+    (
+        "upvar",
+        cmd_upvar,
+        "?level? otherVar localVar ?otherVar localVar ...?",
+        "alias a caller's variable",
+    ),
+    ("array", cmd_array, "subcommand ?arg ...?", "set, get, names, exists, size, unset"),
+];
+
+fn cmd_set(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, 3, "varName ?newValue?")?;
+    if argv.len() == 3 {
+        interp.set_var(argv[1].as_str(), argv[2].clone())
+    } else {
+        interp.get_var(argv[1].as_str())
+    }
+}
+
+fn cmd_unset(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    let mut i = 1;
+    let mut complain = true;
+    while i < argv.len() {
+        match argv[i].as_str() {
+            "-nocomplain" => complain = false,
+            "--" => {
+                i += 1;
+                break;
+            }
+            _ => break,
+        }
+        i += 1;
+    }
+    for name in &argv[i..] {
+        if let Err(e) = interp.unset_var(name.as_str()) {
+            if complain {
+                return Err(e);
+            }
+        }
+    }
+    Ok(Value::empty())
+}
+
+fn cmd_append(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "varName ?value ...?")?;
+    if argv.len() == 2 {
+        return interp.get_var(argv[1].as_str());
+    }
+    interp.update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| {
+        let extra: usize = argv[2..].iter().map(|a| a.as_str().len()).sum();
+        check_len(v.as_str().len() + extra)?;
+        for a in &argv[2..] {
+            v.str_append(a.as_str());
+        }
+        Ok(())
+    })
+}
+
+fn cmd_incr(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, 3, "varName ?increment?")?;
+    let by = if argv.len() == 3 { argv[2].as_int()? } else { 1 };
+    interp.update_var(argv[1].as_str(), Some(Value::from_int(0)), &mut |v| {
+        let n = v.as_int()?;
+        let sum = n
+            .checked_add(by)
+            .ok_or_else(|| Exception::error("integer overflow (rayshell integers are 64-bit)"))?;
+        *v = Value::from_int(sum);
+        Ok(())
+    })
+}
+
+fn cmd_global(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    if interp.level() == 0 {
+        return Ok(Value::empty());
+    }
+    for name in &argv[1..] {
+        let n = name.as_str();
+        let local = n.rsplit("::").next().unwrap_or(n);
+        interp.link_var(0, n, local)?;
+    }
+    Ok(Value::empty())
+}
+
+fn cmd_upvar(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    let usage = "?level? otherVar localVar ?otherVar localVar ...?";
+    check_args(argv, 3, usize::MAX, usage)?;
+    let first = argv[1].as_str();
+    let (frame, rest) = if argv.len() % 2 == 0 {
+        (interp.resolve_level(first)?, &argv[2..])
+    } else {
+        (interp.resolve_level("1")?, &argv[1..])
+    };
+    if rest.len() % 2 != 0 || rest.is_empty() {
+        return Err(Exception::wrong_args(&format!("upvar {usage}")));
+    }
+    for pair in rest.chunks(2) {
+        interp.link_var(frame, pair[0].as_str(), pair[1].as_str())?;
+    }
+    Ok(Value::empty())
+}
+
+fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 3, usize::MAX, "subcommand ?arg ...?")?;
+    let sub = pick_option(
+        argv[1].as_str(),
+        &["exists", "get", "names", "set", "size", "unset"],
+        "option",
+    )?;
+    let name = argv[2].as_str();
+    let args = &argv[3..];
+    let cell = interp.find_var(name);
+    let is_array = cell.as_ref().is_some_and(|c| matches!(*c.borrow(), Var::Array(_)));
+    let matching = |pattern: Option<&Value>| -> Vec<(String, Value)> {
+        match &cell {
+            Some(c) => match &*c.borrow() {
+                Var::Array(a) => a
+                    .iter()
+                    .filter(|(k, _)| pattern.is_none_or(|p| glob_match(p.as_str(), k, false)))
+                    .map(|(k, v)| (k.clone(), v.clone()))
+                    .collect(),
+                _ => Vec::new(),
+            },
+            None => Vec::new(),
+        }
+    };
+    let usage = |u: &str| Exception::wrong_args(&format!("array {sub} arrayName{u}"));
+    match sub {
+        "exists" => {
+            if !args.is_empty() {
+                return Err(usage(""));
+            }
+            Ok(Value::from_bool(is_array))
+        }
+        "size" => {
+            if !args.is_empty() {
+                return Err(usage(""));
+            }
+            Ok(Value::from_int(matching(None).len() as i64))
+        }
+        "names" | "get" => {
+            if args.len() > 1 {
+                return Err(usage(" ?pattern?"));
+            }
+            let items = matching(args.first());
+            let out = if sub == "names" {
+                items.into_iter().map(|(k, _)| Value::from_string(k)).collect()
+            } else {
+                items.into_iter().flat_map(|(k, v)| [Value::from_string(k), v]).collect()
+            };
+            Ok(Value::from_list(out))
+        }
+        "set" => {
+            if args.len() != 1 {
+                return Err(usage(" list"));
+            }
+            let items = args[0].as_list()?;
+            if items.len() % 2 != 0 {
+                return Err(Exception::error("list must have an even number of elements"));
+            }
+            let cell = interp.var_cell(name);
+            let mut var = cell.borrow_mut();
+            if let Var::Scalar(_) = &*var {
+                return Err(Exception::error(format!(
+                    "can't set \"{name}\": variable isn't array"
+                )));
+            }
+            if !matches!(&*var, Var::Array(_)) {
+                *var = Var::Array(IndexMap::new());
+            }
+            if let Var::Array(a) = &mut *var {
+                for kv in items.chunks(2) {
+                    a.insert(kv[0].as_str().to_string(), kv[1].clone());
+                }
+            }
+            Ok(Value::empty())
+        }
+        "unset" => {
+            if args.len() > 1 {
+                return Err(usage(" ?pattern?"));
+            }
+            match args.first() {
+                None => {
+                    if is_array {
+                        interp.unset_var(name)?;
+                    }
+                }
+                Some(p) => {
+                    if let Some(c) = &cell {
+                        if let Var::Array(a) = &mut *c.borrow_mut() {
+                            a.retain(|k, _| !glob_match(p.as_str(), k, false));
+                        }
+                    }
+                }
+            }
+            Ok(Value::empty())
+        }
+        _ => unreachable!("pick_option only returns listed names"),
+    }
+}

@@ -1,0 +1,117 @@
+//! `Exception`: every non-normal outcome of evaluation. Errors, and the
+//! control flow of `return`, `break`, `continue` and `exit`, all travel on
+//! the `Err` side of `Result<Value, Exception>` (molt's `ResultCode` idea).
+//! An error carries Tcl's `errorInfo` trace and the innermost file and line.
+
+use std::rc::Rc;
+
+use super::value::Value;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Code {
+    Error,
+    Return,
+    Break,
+    Continue,
+    /// `exit N`: not catchable, unwinds to the host.
+    Exit(i32),
+}
+
+impl Code {
+    /// The integer `catch` returns for this code.
+    pub fn as_int(self) -> i64 {
+        match self {
+            Code::Error => 1,
+            Code::Return => 2,
+            Code::Break => 3,
+            Code::Continue => 4,
+            Code::Exit(_) => 1,
+        }
+    }
+}
+
+/// A source position: a file (if the script came from one) and a line.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Loc {
+    pub file: Option<Rc<str>>,
+    pub line: u32,
+}
+
+#[derive(Clone, Debug)]
+pub struct Exception {
+    pub code: Code,
+    pub value: Value,
+    /// For `return -code c -level n`: the code to become when `level` hits 0.
+    pub(crate) return_code: Option<Code>,
+    pub(crate) level: u32,
+    /// Tcl's `errorInfo` text so far.
+    pub(crate) trace: String,
+    /// True once the command that raised the error is in `trace`.
+    pub(crate) traced: bool,
+    pub(crate) error_code: Option<Value>,
+    /// The innermost location with a file, for `file:line:` messages.
+    pub loc: Option<Loc>,
+    /// Line (1-based, within the script that was running) of the command
+    /// that failed, for `(procedure "f" line N)`.
+    pub(crate) script_line: u32,
+}
+
+impl Exception {
+    pub fn error(msg: impl Into<String>) -> Exception {
+        let msg: String = msg.into();
+        Exception {
+            code: Code::Error,
+            trace: msg.clone(),
+            value: Value::from_string(msg),
+            return_code: None,
+            level: 0,
+            traced: false,
+            error_code: None,
+            loc: None,
+            script_line: 0,
+        }
+    }
+
+    pub fn flow(code: Code, value: Value) -> Exception {
+        Exception {
+            code,
+            value,
+            return_code: None,
+            level: 0,
+            trace: String::new(),
+            traced: false,
+            error_code: None,
+            loc: None,
+            script_line: 0,
+        }
+    }
+
+    /// `wrong # args: should be "usage"`.
+    pub fn wrong_args(usage: &str) -> Exception {
+        Exception::error(format!("wrong # args: should be \"{usage}\""))
+    }
+
+    pub fn message(&self) -> &str {
+        self.value.as_str()
+    }
+
+    /// The full `errorInfo` text.
+    pub fn error_info(&self) -> &str {
+        &self.trace
+    }
+
+    pub fn error_code(&self) -> Value {
+        self.error_code.clone().unwrap_or_else(|| Value::from("NONE"))
+    }
+
+    /// `file:line: message`, or just the message when no file is known.
+    pub fn located_message(&self) -> String {
+        match &self.loc {
+            Some(Loc { file: Some(f), line }) => format!("{f}:{line}: {}", self.message()),
+            Some(Loc { file: None, line }) => format!("line {line}: {}", self.message()),
+            None => self.message().to_string(),
+        }
+    }
+}
+
+pub type TclResult = Result<Value, Exception>;

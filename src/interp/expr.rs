@@ -1,0 +1,924 @@
+//! `expr`: Tcl 8.6 expressions. Tokens come from a logos lexer (numbers,
+//! operators, names); `$var`, `[cmd]`, `"..."` and `{...}` operands reuse
+//! the script parser. The result is an AST (`Expr`) cached on the value, so
+//! a loop condition is parsed once. Evaluation follows Tcl's rules: 64-bit
+//! integers and doubles, `==` numeric only when both sides are numbers,
+//! lazy `&& || ?:`, floor division, and Tcl's error wording.
+
+use std::rc::Rc;
+
+use logos::Logos;
+
+use super::error::Exception;
+use super::interp::Interp;
+use super::number::{self, Num};
+use super::parser::{Parser, Word};
+use super::value::Value;
+
+#[derive(Logos, Debug, PartialEq, Clone, Copy)]
+enum Tok {
+    #[regex(r"[0-9]+\.?[0-9]*([eE][+-]?[0-9]+)?")]
+    #[regex(r"\.[0-9]+([eE][+-]?[0-9]+)?")]
+    #[regex(r"0[xX][0-9a-fA-F]+|0[bB][01]+|0[oO][0-7]+")]
+    Number,
+    #[regex(r"[A-Za-z_][A-Za-z0-9_]*(::[A-Za-z0-9_]+)*")]
+    Ident,
+    #[token("**")]
+    Pow,
+    #[token("*")]
+    Mul,
+    #[token("/")]
+    Div,
+    #[token("%")]
+    Mod,
+    #[token("+")]
+    Plus,
+    #[token("-")]
+    Minus,
+    #[token("<<")]
+    Shl,
+    #[token(">>")]
+    Shr,
+    #[token("<")]
+    Lt,
+    #[token(">")]
+    Gt,
+    #[token("<=")]
+    Le,
+    #[token(">=")]
+    Ge,
+    #[token("==")]
+    Eq,
+    #[token("!=")]
+    Ne,
+    #[token("&&")]
+    And,
+    #[token("||")]
+    Or,
+    #[token("&")]
+    BitAnd,
+    #[token("|")]
+    BitOr,
+    #[token("^")]
+    BitXor,
+    #[token("~")]
+    BitNot,
+    #[token("!")]
+    Not,
+    #[token("?")]
+    Question,
+    #[token(":")]
+    Colon,
+    #[token("(")]
+    LParen,
+    #[token(")")]
+    RParen,
+    #[token(",")]
+    Comma,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BinOp {
+    Pow,
+    Mul,
+    Div,
+    Mod,
+    Add,
+    Sub,
+    Shl,
+    Shr,
+    Lt,
+    Gt,
+    Le,
+    Ge,
+    Eq,
+    Ne,
+    StrEq,
+    StrNe,
+    In,
+    Ni,
+    BitAnd,
+    BitXor,
+    BitOr,
+}
+
+impl BinOp {
+    fn symbol(self) -> &'static str {
+        match self {
+            BinOp::Pow => "**",
+            BinOp::Mul => "*",
+            BinOp::Div => "/",
+            BinOp::Mod => "%",
+            BinOp::Add => "+",
+            BinOp::Sub => "-",
+            BinOp::Shl => "<<",
+            BinOp::Shr => ">>",
+            BinOp::Lt => "<",
+            BinOp::Gt => ">",
+            BinOp::Le => "<=",
+            BinOp::Ge => ">=",
+            BinOp::Eq => "==",
+            BinOp::Ne => "!=",
+            BinOp::StrEq => "eq",
+            BinOp::StrNe => "ne",
+            BinOp::In => "in",
+            BinOp::Ni => "ni",
+            BinOp::BitAnd => "&",
+            BinOp::BitXor => "^",
+            BinOp::BitOr => "|",
+        }
+    }
+
+    /// Binding power: higher binds tighter.
+    fn precedence(self) -> u8 {
+        match self {
+            BinOp::Pow => 12,
+            BinOp::Mul | BinOp::Div | BinOp::Mod => 11,
+            BinOp::Add | BinOp::Sub => 10,
+            BinOp::Shl | BinOp::Shr => 9,
+            BinOp::Lt | BinOp::Gt | BinOp::Le | BinOp::Ge => 8,
+            BinOp::Eq | BinOp::Ne => 7,
+            BinOp::StrEq | BinOp::StrNe => 6,
+            BinOp::In | BinOp::Ni => 5,
+            BinOp::BitAnd => 4,
+            BinOp::BitXor => 3,
+            BinOp::BitOr => 2,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum UnOp {
+    Neg,
+    Plus,
+    Not,
+    BitNot,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Func {
+    Abs,
+    Acos,
+    Asin,
+    Atan,
+    Atan2,
+    Bool,
+    Ceil,
+    Cos,
+    Cosh,
+    Double,
+    Entier,
+    Exp,
+    Floor,
+    Fmod,
+    Hypot,
+    Int,
+    Isqrt,
+    Log,
+    Log10,
+    Max,
+    Min,
+    Pow,
+    Rand,
+    Round,
+    Sin,
+    Sinh,
+    Sqrt,
+    Srand,
+    Tan,
+    Tanh,
+    Wide,
+}
+
+impl Func {
+    fn from_name(name: &str) -> Option<Func> {
+        Some(match name {
+            "abs" => Func::Abs,
+            "acos" => Func::Acos,
+            "asin" => Func::Asin,
+            "atan" => Func::Atan,
+            "atan2" => Func::Atan2,
+            "bool" => Func::Bool,
+            "ceil" => Func::Ceil,
+            "cos" => Func::Cos,
+            "cosh" => Func::Cosh,
+            "double" => Func::Double,
+            "entier" => Func::Entier,
+            "exp" => Func::Exp,
+            "floor" => Func::Floor,
+            "fmod" => Func::Fmod,
+            "hypot" => Func::Hypot,
+            "int" => Func::Int,
+            "isqrt" => Func::Isqrt,
+            "log" => Func::Log,
+            "log10" => Func::Log10,
+            "max" => Func::Max,
+            "min" => Func::Min,
+            "pow" => Func::Pow,
+            "rand" => Func::Rand,
+            "round" => Func::Round,
+            "sin" => Func::Sin,
+            "sinh" => Func::Sinh,
+            "sqrt" => Func::Sqrt,
+            "srand" => Func::Srand,
+            "tan" => Func::Tan,
+            "tanh" => Func::Tanh,
+            "wide" => Func::Wide,
+            _ => return None,
+        })
+    }
+
+    /// (minimum, maximum) argument counts.
+    fn arity(self) -> (usize, usize) {
+        match self {
+            Func::Rand => (0, 0),
+            Func::Atan2 | Func::Fmod | Func::Hypot | Func::Pow => (2, 2),
+            Func::Max | Func::Min => (1, usize::MAX),
+            _ => (1, 1),
+        }
+    }
+}
+
+pub enum Expr {
+    Lit(Operand),
+    Word(Word),
+    Unary(UnOp, Box<Expr>),
+    Binary(BinOp, Box<Expr>, Box<Expr>),
+    And(Box<Expr>, Box<Expr>),
+    Or(Box<Expr>, Box<Expr>),
+    Ternary(Box<Expr>, Box<Expr>, Box<Expr>),
+    Call(Func, Vec<Expr>),
+}
+
+/// An operand during evaluation: numbers stay unboxed.
+#[derive(Clone)]
+pub enum Operand {
+    Int(i64),
+    Dbl(f64),
+    Str(Value),
+}
+
+impl Operand {
+    fn from_value(v: Value) -> Operand {
+        Operand::Str(v)
+    }
+
+    fn num(&self) -> Option<Num> {
+        match self {
+            Operand::Int(i) => Some(Num::Int(*i)),
+            Operand::Dbl(d) => Some(Num::Double(*d)),
+            Operand::Str(v) => v.as_num(),
+        }
+    }
+
+    fn num_for(&self, op: &str) -> Result<Num, Exception> {
+        self.num().ok_or_else(|| self.type_error(op))
+    }
+
+    fn type_error(&self, op: &str) -> Exception {
+        match self {
+            Operand::Str(v) if v.as_str().is_empty() => {
+                Exception::error(format!("can't use empty string as operand of \"{op}\""))
+            }
+            Operand::Str(v) if number::parse_bool(v.as_str()).is_none() || op != "!" => {
+                Exception::error(format!("can't use non-numeric string as operand of \"{op}\""))
+            }
+            _ => Exception::error(format!("can't use non-numeric string as operand of \"{op}\"")),
+        }
+    }
+
+    fn int_for(&self, op: &str) -> Result<i64, Exception> {
+        match self.num_for(op)? {
+            Num::Int(i) => Ok(i),
+            Num::Double(_) => Err(Exception::error(format!(
+                "can't use floating-point value as operand of \"{op}\""
+            ))),
+        }
+    }
+
+    fn truth(&self) -> Result<bool, Exception> {
+        match self {
+            Operand::Int(i) => Ok(*i != 0),
+            Operand::Dbl(d) => Ok(*d != 0.0),
+            Operand::Str(v) => v.as_bool(),
+        }
+    }
+
+    fn str_value(&self) -> Value {
+        match self {
+            Operand::Int(i) => Value::from_int(*i),
+            Operand::Dbl(d) => Value::from_f64(*d),
+            Operand::Str(v) => v.clone(),
+        }
+    }
+
+    pub fn into_value(self) -> Value {
+        match self {
+            Operand::Int(i) => Value::from_int(i),
+            Operand::Dbl(d) => Value::from_f64(d),
+            Operand::Str(v) => match v.as_num() {
+                Some(n) => Value::from_num(n),
+                None => v,
+            },
+        }
+    }
+}
+
+fn from_num(n: Num) -> Operand {
+    match n {
+        Num::Int(i) => Operand::Int(i),
+        Num::Double(d) => Operand::Dbl(d),
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Parsing
+
+struct ExprParser<'a> {
+    src: &'a str,
+    pos: usize,
+    /// One token of lookahead: (token, start, end).
+    peeked: Option<Option<(Tok, usize, usize)>>,
+    script: Parser,
+}
+
+type PResult<T> = Result<T, Exception>;
+
+impl<'a> ExprParser<'a> {
+    fn syntax(&self, msg: &str, at: usize) -> Exception {
+        let at = at.min(self.src.len());
+        Exception::error(format!(
+            "{msg} at _@_\nin expression \"{}_@_{}\"",
+            &self.src[..at],
+            &self.src[at..]
+        ))
+    }
+
+    fn whole(&self, msg: &str) -> Exception {
+        Exception::error(format!("{msg}\nin expression \"{}\"", self.src))
+    }
+
+    fn skip_ws(&mut self) {
+        let b = self.src.as_bytes();
+        while self.pos < b.len()
+            && matches!(b[self.pos], b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c)
+        {
+            self.pos += 1;
+        }
+    }
+
+    /// The next operator-or-number token, without consuming it. Operands
+    /// that start with `$ [ " {` are reported as `None` with their start.
+    fn peek(&mut self) -> PResult<Option<(Tok, usize, usize)>> {
+        if let Some(p) = self.peeked {
+            return Ok(p);
+        }
+        self.skip_ws();
+        let start = self.pos;
+        if start >= self.src.len() {
+            self.peeked = Some(None);
+            return Ok(None);
+        }
+        if matches!(self.src.as_bytes()[start], b'$' | b'[' | b'"' | b'{') {
+            self.peeked = Some(None);
+            return Ok(None);
+        }
+        let mut lex = Tok::lexer(&self.src[start..]);
+        match lex.next() {
+            Some(Ok(t)) => {
+                let span = lex.span();
+                let r = Some((t, start + span.start, start + span.end));
+                self.peeked = Some(r);
+                Ok(r)
+            }
+            _ => {
+                // An unknown character: report it as a bareword.
+                let ch = self.src[start..].chars().next().unwrap_or(' ');
+                Err(self.bareword(&ch.to_string()))
+            }
+        }
+    }
+
+    fn bump(&mut self, end: usize) {
+        self.pos = end;
+        self.peeked = None;
+    }
+
+    fn at_operand_sigil(&mut self) -> bool {
+        self.skip_ws();
+        matches!(self.peeked, None | Some(None))
+            && self.pos < self.src.len()
+            && matches!(self.src.as_bytes()[self.pos], b'$' | b'[' | b'"' | b'{')
+    }
+
+    fn bareword(&self, w: &str) -> Exception {
+        Exception::error(format!(
+            "invalid bareword \"{w}\"\nin expression \"{}\";\nshould be \"${w}\" or \"{{{w}}}\" or \"{w}(...)\" or ...",
+            self.src
+        ))
+    }
+
+    fn binop(&mut self) -> PResult<Option<(BinOp, usize)>> {
+        let Some((t, s, e)) = self.peek()? else { return Ok(None) };
+        let op = match t {
+            Tok::Pow => BinOp::Pow,
+            Tok::Mul => BinOp::Mul,
+            Tok::Div => BinOp::Div,
+            Tok::Mod => BinOp::Mod,
+            Tok::Plus => BinOp::Add,
+            Tok::Minus => BinOp::Sub,
+            Tok::Shl => BinOp::Shl,
+            Tok::Shr => BinOp::Shr,
+            Tok::Lt => BinOp::Lt,
+            Tok::Gt => BinOp::Gt,
+            Tok::Le => BinOp::Le,
+            Tok::Ge => BinOp::Ge,
+            Tok::Eq => BinOp::Eq,
+            Tok::Ne => BinOp::Ne,
+            Tok::BitAnd => BinOp::BitAnd,
+            Tok::BitOr => BinOp::BitOr,
+            Tok::BitXor => BinOp::BitXor,
+            Tok::Ident => match &self.src[s..e] {
+                "eq" => BinOp::StrEq,
+                "ne" => BinOp::StrNe,
+                "in" => BinOp::In,
+                "ni" => BinOp::Ni,
+                _ => return Ok(None),
+            },
+            _ => return Ok(None),
+        };
+        Ok(Some((op, e)))
+    }
+
+    fn parse_top(&mut self) -> PResult<Expr> {
+        self.skip_ws();
+        if self.pos >= self.src.len() {
+            return Err(self.whole("empty expression"));
+        }
+        let e = self.ternary()?;
+        if self.at_operand_sigil() {
+            return Err(self.syntax("missing operator", self.pos));
+        }
+        match self.peek()? {
+            None => Ok(e),
+            Some((Tok::RParen, _, _)) => Err(self.whole("unbalanced close paren")),
+            Some((_, s, _)) => Err(self.syntax("missing operator", s)),
+        }
+    }
+
+    fn ternary(&mut self) -> PResult<Expr> {
+        let cond = self.or()?;
+        if let Some((Tok::Question, _, e)) = self.peek()? {
+            self.bump(e);
+            let a = self.ternary()?;
+            match self.peek()? {
+                Some((Tok::Colon, _, e)) => self.bump(e),
+                _ => return Err(self.syntax("missing operator \":\"", self.pos)),
+            }
+            let b = self.ternary()?;
+            return Ok(Expr::Ternary(Box::new(cond), Box::new(a), Box::new(b)));
+        }
+        Ok(cond)
+    }
+
+    fn or(&mut self) -> PResult<Expr> {
+        let mut l = self.and()?;
+        while let Some((Tok::Or, _, e)) = self.peek()? {
+            self.bump(e);
+            let r = self.and()?;
+            l = Expr::Or(Box::new(l), Box::new(r));
+        }
+        Ok(l)
+    }
+
+    fn and(&mut self) -> PResult<Expr> {
+        let mut l = self.binary(0)?;
+        while let Some((Tok::And, _, e)) = self.peek()? {
+            self.bump(e);
+            let r = self.binary(0)?;
+            l = Expr::And(Box::new(l), Box::new(r));
+        }
+        Ok(l)
+    }
+
+    /// Precedence climbing over the binary operators.
+    fn binary(&mut self, min_prec: u8) -> PResult<Expr> {
+        let mut l = self.unary()?;
+        while let Some((op, end)) = self.binop()? {
+            let prec = op.precedence();
+            if prec < min_prec {
+                break;
+            }
+            self.bump(end);
+            // `**` is right-associative; the rest are left-associative.
+            let next = if op == BinOp::Pow { prec } else { prec + 1 };
+            let r = self.binary(next)?;
+            l = Expr::Binary(op, Box::new(l), Box::new(r));
+        }
+        Ok(l)
+    }
+
+    fn unary(&mut self) -> PResult<Expr> {
+        let op = match self.peek()? {
+            Some((Tok::Minus, _, e)) => Some((UnOp::Neg, e)),
+            Some((Tok::Plus, _, e)) => Some((UnOp::Plus, e)),
+            Some((Tok::Not, _, e)) => Some((UnOp::Not, e)),
+            Some((Tok::BitNot, _, e)) => Some((UnOp::BitNot, e)),
+            _ => None,
+        };
+        if let Some((op, e)) = op {
+            self.bump(e);
+            let x = self.unary()?;
+            return Ok(Expr::Unary(op, Box::new(x)));
+        }
+        self.primary()
+    }
+
+    fn primary(&mut self) -> PResult<Expr> {
+        if self.at_operand_sigil() {
+            return self.word_operand();
+        }
+        let Some((t, s, e)) = self.peek()? else {
+            return Err(self.syntax("missing operand", self.pos));
+        };
+        match t {
+            Tok::Number => {
+                self.bump(e);
+                let text = &self.src[s..e];
+                match number::parse_num(text) {
+                    Some(n) => Ok(Expr::Lit(from_num(n))),
+                    None => Err(Exception::error(format!(
+                        "invalid bareword \"{text}\"\nin expression \"{}\";\nshould be \"${text}\" or \"{{{text}}}\" or \"{text}(...)\" or ... (invalid octal number?)",
+                        self.src
+                    ))),
+                }
+            }
+            Tok::LParen => {
+                self.bump(e);
+                let inner = self.ternary()?;
+                match self.peek()? {
+                    Some((Tok::RParen, _, e)) => {
+                        self.bump(e);
+                        Ok(inner)
+                    }
+                    _ if self.pos >= self.src.len() => Err(self.whole("unbalanced open paren")),
+                    _ => Err(self.syntax("missing close paren", self.pos)),
+                }
+            }
+            Tok::Ident => {
+                let name = &self.src[s..e];
+                self.bump(e);
+                self.skip_ws();
+                if self.src[self.pos..].starts_with('(') {
+                    self.pos += 1;
+                    return self.call(name.to_string());
+                }
+                let lower = name.to_ascii_lowercase();
+                if number::parse_bool(name).is_some() && !matches!(lower.as_str(), "eq" | "ne")
+                    || matches!(lower.as_str(), "inf" | "infinity" | "nan")
+                {
+                    if let Some(d) = number::parse_double(name) {
+                        return Ok(Expr::Lit(Operand::Dbl(d)));
+                    }
+                    return Ok(Expr::Lit(Operand::Str(Value::from(name))));
+                }
+                Err(self.bareword(name))
+            }
+            _ => Err(self.syntax("missing operand", s)),
+        }
+    }
+
+    fn call(&mut self, name: String) -> PResult<Expr> {
+        let mut args = Vec::new();
+        self.peeked = None;
+        if let Some((Tok::RParen, _, e)) = self.peek()? {
+            self.bump(e);
+        } else {
+            loop {
+                args.push(self.ternary()?);
+                match self.peek()? {
+                    Some((Tok::Comma, _, e)) => self.bump(e),
+                    Some((Tok::RParen, _, e)) => {
+                        self.bump(e);
+                        break;
+                    }
+                    _ if self.pos >= self.src.len() => {
+                        return Err(self.whole("unbalanced open paren"));
+                    }
+                    _ => return Err(self.syntax("missing close paren", self.pos)),
+                }
+            }
+        }
+        match Func::from_name(&name) {
+            Some(f) => {
+                let (lo, hi) = f.arity();
+                if args.len() < lo {
+                    return Err(Exception::error(format!(
+                        "not enough arguments for math function \"{name}\""
+                    )));
+                }
+                if args.len() > hi {
+                    return Err(Exception::error(format!(
+                        "too many arguments for math function \"{name}\""
+                    )));
+                }
+                Ok(Expr::Call(f, args))
+            }
+            None => {
+                Err(Exception::error(format!("invalid command name \"tcl::mathfunc::{name}\"")))
+            }
+        }
+    }
+
+    fn word_operand(&mut self) -> PResult<Expr> {
+        self.script.set_pos(self.pos);
+        let w = self.script.expr_word().map_err(|e| Exception::error(e.msg))?;
+        self.pos = self.script.pos();
+        self.peeked = None;
+        Ok(match w {
+            Word::Lit(v) => Expr::Lit(Operand::Str(v)),
+            w => Expr::Word(w),
+        })
+    }
+}
+
+/// Parses an expression.
+pub fn parse(src: &str, file: Option<Rc<str>>, first_line: u32) -> Result<Expr, Exception> {
+    let mut p = ExprParser {
+        src,
+        pos: 0,
+        peeked: None,
+        script: Parser::new(Rc::from(src), file, first_line),
+    };
+    p.parse_top()
+}
+
+// ---------------------------------------------------------------------------
+// Evaluation
+
+fn int_overflow() -> Exception {
+    Exception::error("integer overflow (rayshell integers are 64-bit)")
+}
+
+fn check_double(d: f64) -> Result<Operand, Exception> {
+    if d.is_nan() {
+        return Err(Exception::error("domain error: argument not in valid range"));
+    }
+    Ok(Operand::Dbl(d))
+}
+
+fn compare(a: &Operand, b: &Operand) -> std::cmp::Ordering {
+    match (a.num(), b.num()) {
+        (Some(Num::Int(x)), Some(Num::Int(y))) => x.cmp(&y),
+        (Some(x), Some(y)) => {
+            x.to_f64().partial_cmp(&y.to_f64()).unwrap_or(std::cmp::Ordering::Equal)
+        }
+        _ => a.str_value().as_str().cmp(b.str_value().as_str()),
+    }
+}
+
+fn int_pow(base: i64, exp: i64) -> Result<i64, Exception> {
+    if exp < 0 {
+        return match base {
+            0 => Err(Exception::error("exponentiation of zero by negative power")),
+            1 => Ok(1),
+            -1 => Ok(if exp % 2 == 0 { 1 } else { -1 }),
+            _ => Ok(0),
+        };
+    }
+    let exp = u32::try_from(exp).map_err(|_| int_overflow())?;
+    base.checked_pow(exp).ok_or_else(int_overflow)
+}
+
+fn binary(op: BinOp, a: Operand, b: Operand) -> Result<Operand, Exception> {
+    let sym = op.symbol();
+    let arith = |a: &Operand, b: &Operand| -> Result<(Num, Num), Exception> {
+        Ok((a.num_for(sym)?, b.num_for(sym)?))
+    };
+    Ok(match op {
+        BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Pow => match arith(&a, &b)? {
+            (Num::Int(x), Num::Int(y)) => Operand::Int(match op {
+                BinOp::Add => x.checked_add(y).ok_or_else(int_overflow)?,
+                BinOp::Sub => x.checked_sub(y).ok_or_else(int_overflow)?,
+                BinOp::Mul => x.checked_mul(y).ok_or_else(int_overflow)?,
+                BinOp::Div => {
+                    if y == 0 {
+                        return Err(Exception::error("divide by zero"));
+                    }
+                    let q = x.checked_div(y).ok_or_else(int_overflow)?;
+                    if x % y != 0 && ((x < 0) != (y < 0)) { q - 1 } else { q }
+                }
+                _ => int_pow(x, y)?,
+            }),
+            (x, y) => {
+                let (x, y) = (x.to_f64(), y.to_f64());
+                check_double(match op {
+                    BinOp::Add => x + y,
+                    BinOp::Sub => x - y,
+                    BinOp::Mul => x * y,
+                    BinOp::Div => x / y,
+                    _ => x.powf(y),
+                })?
+            }
+        },
+        BinOp::Mod => {
+            let (x, y) = (a.int_for(sym)?, b.int_for(sym)?);
+            if y == 0 {
+                return Err(Exception::error("divide by zero"));
+            }
+            let r = x.checked_rem(y).unwrap_or(0);
+            Operand::Int(if r != 0 && ((r < 0) != (y < 0)) { r + y } else { r })
+        }
+        BinOp::Shl | BinOp::Shr => {
+            let (x, y) = (a.int_for(sym)?, b.int_for(sym)?);
+            if y < 0 {
+                return Err(Exception::error("negative shift argument"));
+            }
+            if op == BinOp::Shl {
+                if y >= 64 || (x != 0 && (x << y) >> y != x) {
+                    return Err(int_overflow());
+                }
+                Operand::Int(x << y)
+            } else {
+                Operand::Int(if y >= 64 { if x < 0 { -1 } else { 0 } } else { x >> y })
+            }
+        }
+        BinOp::BitAnd => Operand::Int(a.int_for(sym)? & b.int_for(sym)?),
+        BinOp::BitOr => Operand::Int(a.int_for(sym)? | b.int_for(sym)?),
+        BinOp::BitXor => Operand::Int(a.int_for(sym)? ^ b.int_for(sym)?),
+        BinOp::Lt => Operand::Int(compare(&a, &b).is_lt() as i64),
+        BinOp::Gt => Operand::Int(compare(&a, &b).is_gt() as i64),
+        BinOp::Le => Operand::Int(compare(&a, &b).is_le() as i64),
+        BinOp::Ge => Operand::Int(compare(&a, &b).is_ge() as i64),
+        BinOp::Eq => Operand::Int(compare(&a, &b).is_eq() as i64),
+        BinOp::Ne => Operand::Int(compare(&a, &b).is_ne() as i64),
+        BinOp::StrEq => Operand::Int((a.str_value().as_str() == b.str_value().as_str()) as i64),
+        BinOp::StrNe => Operand::Int((a.str_value().as_str() != b.str_value().as_str()) as i64),
+        BinOp::In | BinOp::Ni => {
+            let needle = a.str_value();
+            let list = b.str_value().as_list()?;
+            let found = list.iter().any(|v| v.as_str() == needle.as_str());
+            Operand::Int((found == (op == BinOp::In)) as i64)
+        }
+    })
+}
+
+fn unary(op: UnOp, x: Operand) -> Result<Operand, Exception> {
+    Ok(match op {
+        UnOp::Neg => match x.num_for("-")? {
+            Num::Int(i) => Operand::Int(i.checked_neg().ok_or_else(int_overflow)?),
+            Num::Double(d) => Operand::Dbl(-d),
+        },
+        UnOp::Plus => from_num(x.num_for("+")?),
+        UnOp::BitNot => Operand::Int(!x.int_for("~")?),
+        UnOp::Not => match x.num() {
+            Some(n) => Operand::Int(!n.truthy() as i64),
+            None => match &x {
+                Operand::Str(v) => match number::parse_bool(v.as_str()) {
+                    Some(b) => Operand::Int(!b as i64),
+                    None => return Err(x.type_error("!")),
+                },
+                _ => return Err(x.type_error("!")),
+            },
+        },
+    })
+}
+
+fn to_int(d: f64) -> Result<i64, Exception> {
+    if !d.is_finite() {
+        return Err(Exception::error("integer value too large to represent"));
+    }
+    let t = d.trunc();
+    if t >= 9.223372036854775807e18 || t < -9.223372036854775808e18 {
+        return Err(Exception::error("integer value too large to represent"));
+    }
+    Ok(t as i64)
+}
+
+fn call(interp: &mut Interp, f: Func, args: Vec<Operand>) -> Result<Operand, Exception> {
+    let dbl = |o: &Operand| -> Result<f64, Exception> {
+        match o.num() {
+            Some(n) => Ok(n.to_f64()),
+            None => Err(Exception::error(format!(
+                "expected floating-point number but got \"{}\"",
+                o.str_value().as_str()
+            ))),
+        }
+    };
+    let num = |o: &Operand| -> Result<Num, Exception> {
+        o.num().ok_or_else(|| {
+            Exception::error(format!(
+                "expected floating-point number but got \"{}\"",
+                o.str_value().as_str()
+            ))
+        })
+    };
+    let d1 = |g: fn(f64) -> f64| -> Result<Operand, Exception> { check_double(g(dbl(&args[0])?)) };
+    match f {
+        Func::Sin => d1(f64::sin),
+        Func::Cos => d1(f64::cos),
+        Func::Tan => d1(f64::tan),
+        Func::Asin => d1(f64::asin),
+        Func::Acos => d1(f64::acos),
+        Func::Atan => d1(f64::atan),
+        Func::Sinh => d1(f64::sinh),
+        Func::Cosh => d1(f64::cosh),
+        Func::Tanh => d1(f64::tanh),
+        Func::Exp => d1(f64::exp),
+        Func::Log => d1(f64::ln),
+        Func::Log10 => d1(f64::log10),
+        Func::Sqrt => d1(f64::sqrt),
+        Func::Ceil => d1(f64::ceil),
+        Func::Floor => d1(f64::floor),
+        Func::Double => d1(|x| x),
+        Func::Atan2 => check_double(dbl(&args[0])?.atan2(dbl(&args[1])?)),
+        Func::Pow => check_double(dbl(&args[0])?.powf(dbl(&args[1])?)),
+        Func::Hypot => check_double(dbl(&args[0])?.hypot(dbl(&args[1])?)),
+        Func::Fmod => {
+            let (x, y) = (dbl(&args[0])?, dbl(&args[1])?);
+            check_double(x % y)
+        }
+        Func::Abs => Ok(match num(&args[0])? {
+            Num::Int(i) => Operand::Int(i.checked_abs().ok_or_else(int_overflow)?),
+            Num::Double(d) => Operand::Dbl(d.abs()),
+        }),
+        Func::Int | Func::Wide | Func::Entier => Ok(match num(&args[0])? {
+            Num::Int(i) => Operand::Int(i),
+            Num::Double(d) => Operand::Int(to_int(d)?),
+        }),
+        Func::Round => Ok(match num(&args[0])? {
+            Num::Int(i) => Operand::Int(i),
+            Num::Double(d) => Operand::Int(to_int(d.round())?),
+        }),
+        Func::Isqrt => {
+            let x = dbl(&args[0])?;
+            if x < 0.0 {
+                return Err(Exception::error("square root of negative argument"));
+            }
+            Ok(Operand::Int(to_int(x.sqrt().floor())?))
+        }
+        Func::Bool => Ok(Operand::Int(args[0].truth()? as i64)),
+        Func::Max | Func::Min => {
+            let mut best = num(&args[0])?;
+            for a in &args[1..] {
+                let n = num(a)?;
+                let better = if f == Func::Max {
+                    n.to_f64() > best.to_f64()
+                } else {
+                    n.to_f64() < best.to_f64()
+                };
+                if better {
+                    best = n;
+                }
+            }
+            Ok(from_num(best))
+        }
+        Func::Rand => Ok(Operand::Dbl(interp.next_rand())),
+        Func::Srand => {
+            let seed = match num(&args[0])? {
+                Num::Int(i) => i,
+                Num::Double(d) => to_int(d)?,
+            };
+            interp.seed_rand(seed);
+            Ok(Operand::Dbl(interp.next_rand()))
+        }
+    }
+}
+
+pub(crate) fn eval(interp: &mut Interp, e: &Expr) -> Result<Operand, Exception> {
+    Ok(match e {
+        Expr::Lit(o) => o.clone(),
+        Expr::Word(w) => Operand::from_value(interp.eval_word(w)?),
+        Expr::Unary(op, x) => unary(*op, eval(interp, x)?)?,
+        Expr::Binary(op, a, b) => {
+            let a = eval(interp, a)?;
+            let b = eval(interp, b)?;
+            binary(*op, a, b)?
+        }
+        Expr::And(a, b) => {
+            let r = eval(interp, a)?.truth()? && eval(interp, b)?.truth()?;
+            Operand::Int(r as i64)
+        }
+        Expr::Or(a, b) => {
+            let r = eval(interp, a)?.truth()? || eval(interp, b)?.truth()?;
+            Operand::Int(r as i64)
+        }
+        Expr::Ternary(c, a, b) => {
+            if eval(interp, c)?.truth()? {
+                eval(interp, a)?
+            } else {
+                eval(interp, b)?
+            }
+        }
+        Expr::Call(f, args) => {
+            let mut vals = Vec::with_capacity(args.len());
+            for a in args {
+                vals.push(eval(interp, a)?);
+            }
+            call(interp, *f, vals)?
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,321 @@
+//! `format`: C's printf as Tcl 8.6 does it (flags `-+ 0#`, width and
+//! precision with `*`, XPG `%n$` positions, `d i u o x X b c s f e g a %`).
+
+use super::error::Exception;
+use super::number::{self, Num};
+use super::value::Value;
+
+struct Spec {
+    minus: bool,
+    plus: bool,
+    space: bool,
+    zero: bool,
+    alt: bool,
+    width: usize,
+    precision: Option<usize>,
+    big: bool,
+}
+
+fn pad(spec: &Spec, body: String, numeric: bool) -> String {
+    let len = body.chars().count();
+    if len >= spec.width {
+        return body;
+    }
+    let fill = spec.width - len;
+    if spec.minus {
+        return body + &" ".repeat(fill);
+    }
+    if spec.zero && numeric {
+        // Zeros go after the sign and any 0x prefix.
+        let prefix_len = if body.starts_with(['-', '+', ' ']) { 1 } else { 0 };
+        let prefix_len =
+            if body[prefix_len..].starts_with("0x") || body[prefix_len..].starts_with("0X") {
+                prefix_len + 2
+            } else {
+                prefix_len
+            };
+        let (p, rest) = body.split_at(prefix_len);
+        return format!("{p}{}{rest}", "0".repeat(fill));
+    }
+    " ".repeat(fill) + &body
+}
+
+fn sign(spec: &Spec, neg: bool) -> &'static str {
+    if neg {
+        "-"
+    } else if spec.plus {
+        "+"
+    } else if spec.space {
+        " "
+    } else {
+        ""
+    }
+}
+
+fn get_int(v: &Value) -> Result<i64, Exception> {
+    match v.as_num() {
+        Some(Num::Int(i)) => Ok(i),
+        _ => Err(number::int_error(v.as_str())),
+    }
+}
+
+fn get_double(v: &Value) -> Result<f64, Exception> {
+    v.as_f64()
+}
+
+/// `%e` with at least two exponent digits, as C prints it.
+fn exp_form(x: f64, prec: usize, upper: bool) -> String {
+    let s = format!("{:.*e}", prec, x);
+    let (m, e) = s.split_once('e').expect("LowerExp writes an exponent");
+    let e: i32 = e.parse().expect("decimal exponent");
+    let out = format!("{m}e{}{:02}", if e < 0 { '-' } else { '+' }, e.abs());
+    if upper { out.to_uppercase() } else { out }
+}
+
+fn g_form(x: f64, prec: usize, alt: bool, upper: bool) -> String {
+    let p = if prec == 0 { 1 } else { prec };
+    if x == 0.0 {
+        return if alt { format!("{:.*}", p - 1, 0.0) } else { "0".into() };
+    }
+    let e_str = format!("{:.*e}", p - 1, x);
+    let exp: i32 = e_str.split_once('e').map(|(_, e)| e.parse().unwrap_or(0)).unwrap_or(0);
+    let mut s = if exp < -4 || exp >= p as i32 {
+        exp_form(x, p - 1, upper)
+    } else {
+        format!("{:.*}", (p as i32 - 1 - exp).max(0) as usize, x)
+    };
+    if !alt {
+        // Strip trailing zeros of the fraction.
+        let (mant, tail) = match s.find(['e', 'E']) {
+            Some(i) => (s[..i].to_string(), s[i..].to_string()),
+            None => (s.clone(), String::new()),
+        };
+        let mant = if mant.contains('.') {
+            mant.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            mant
+        };
+        s = mant + &tail;
+    }
+    s
+}
+
+fn float_body(conv: char, x: f64, spec: &Spec) -> String {
+    if !x.is_finite() {
+        let s = if x.is_nan() { "nan" } else { "inf" };
+        let s = if conv.is_ascii_uppercase() { s.to_uppercase() } else { s.to_string() };
+        return format!("{}{}", sign(spec, x.is_sign_negative() && !x.is_nan()), s);
+    }
+    let prec = spec.precision.unwrap_or(6);
+    let neg = x.is_sign_negative() && x != 0.0 || (x == 0.0 && x.is_sign_negative());
+    let a = x.abs();
+    let body = match conv {
+        'f' | 'F' => {
+            let s = format!("{:.*}", prec, a);
+            if spec.alt && prec == 0 { s + "." } else { s }
+        }
+        'e' | 'E' => exp_form(a, prec, conv == 'E'),
+        'a' | 'A' => format!("{a:e}"),
+        _ => g_form(a, prec, spec.alt, conv == 'G'),
+    };
+    format!("{}{}", sign(spec, neg), body)
+}
+
+pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
+    let mut out = String::new();
+    let chars: Vec<char> = fmt.chars().collect();
+    let mut i = 0;
+    let mut next_arg = 0;
+    let mut used_xpg = false;
+    let mut used_plain = false;
+    let not_enough = || Exception::error("not enough arguments for all format specifiers");
+    while i < chars.len() {
+        let c = chars[i];
+        i += 1;
+        if c != '%' {
+            out.push(c);
+            continue;
+        }
+        if i < chars.len() && chars[i] == '%' {
+            out.push('%');
+            i += 1;
+            continue;
+        }
+        // XPG position: digits followed by '$'.
+        let mut j = i;
+        while j < chars.len() && chars[j].is_ascii_digit() {
+            j += 1;
+        }
+        if j > i && j < chars.len() && chars[j] == '$' {
+            let n: usize = chars[i..j].iter().collect::<String>().parse().unwrap_or(0);
+            if n == 0 {
+                return Err(Exception::error("\"%n$\" argument index out of range"));
+            }
+            next_arg = n - 1;
+            used_xpg = true;
+            i = j + 1;
+        } else {
+            used_plain = true;
+        }
+        if used_xpg && used_plain {
+            return Err(Exception::error("cannot mix \"%\" and \"%n$\" conversion specifiers"));
+        }
+        let mut spec = Spec {
+            minus: false,
+            plus: false,
+            space: false,
+            zero: false,
+            alt: false,
+            width: 0,
+            precision: None,
+            big: false,
+        };
+        while i < chars.len() {
+            match chars[i] {
+                '-' => spec.minus = true,
+                '+' => spec.plus = true,
+                ' ' => spec.space = true,
+                '0' => spec.zero = true,
+                '#' => spec.alt = true,
+                _ => break,
+            }
+            i += 1;
+        }
+        let take_arg = |next_arg: &mut usize| -> Result<Value, Exception> {
+            let v = args.get(*next_arg).cloned().ok_or_else(not_enough)?;
+            *next_arg += 1;
+            Ok(v)
+        };
+        if i < chars.len() && chars[i] == '*' {
+            let w = get_int(&take_arg(&mut next_arg)?)?;
+            if w < 0 {
+                spec.minus = true;
+            }
+            spec.width = w.unsigned_abs() as usize;
+            i += 1;
+        } else {
+            let s = i;
+            while i < chars.len() && chars[i].is_ascii_digit() {
+                i += 1;
+            }
+            spec.width = chars[s..i].iter().collect::<String>().parse().unwrap_or(0);
+        }
+        if i < chars.len() && chars[i] == '.' {
+            i += 1;
+            if i < chars.len() && chars[i] == '*' {
+                spec.precision = Some(get_int(&take_arg(&mut next_arg)?)?.max(0) as usize);
+                i += 1;
+            } else {
+                let s = i;
+                while i < chars.len() && chars[i].is_ascii_digit() {
+                    i += 1;
+                }
+                spec.precision = Some(chars[s..i].iter().collect::<String>().parse().unwrap_or(0));
+            }
+        }
+        if spec.width > 1 << 20 || spec.precision.is_some_and(|p| p > 1 << 20) {
+            return Err(Exception::error("format width or precision too large"));
+        }
+        // Size modifiers.
+        if i + 1 < chars.len() && chars[i] == 'l' && chars[i + 1] == 'l' {
+            spec.big = true;
+            i += 2;
+        } else if i < chars.len() && matches!(chars[i], 'h' | 'l' | 'L' | 'j' | 'q') {
+            if chars[i] == 'L' {
+                spec.big = true;
+            }
+            i += 1;
+        }
+        let Some(&conv) = chars.get(i) else {
+            return Err(Exception::error("format string ended in middle of field specifier"));
+        };
+        i += 1;
+        let piece = match conv {
+            'd' | 'i' => {
+                let v = get_int(&take_arg(&mut next_arg)?)?;
+                let mut digits = v.unsigned_abs().to_string();
+                if let Some(p) = spec.precision {
+                    while digits.len() < p {
+                        digits.insert(0, '0');
+                    }
+                }
+                pad(&spec, format!("{}{digits}", sign(&spec, v < 0)), spec.precision.is_none())
+            }
+            'u' | 'o' | 'x' | 'X' | 'b' => {
+                let v = get_int(&take_arg(&mut next_arg)?)?;
+                let (neg, mag) =
+                    if spec.big && v < 0 { (true, v.unsigned_abs()) } else { (false, v as u64) };
+                let mut digits = match conv {
+                    'u' => mag.to_string(),
+                    'o' => format!("{mag:o}"),
+                    'x' => format!("{mag:x}"),
+                    'X' => format!("{mag:X}"),
+                    _ => format!("{mag:b}"),
+                };
+                if let Some(p) = spec.precision {
+                    while digits.len() < p {
+                        digits.insert(0, '0');
+                    }
+                }
+                let prefix = match (spec.alt && mag != 0, conv) {
+                    (true, 'o') => "0",
+                    (true, 'x') => "0x",
+                    (true, 'X') => "0X",
+                    (true, 'b') => "0b",
+                    _ => "",
+                };
+                pad(
+                    &spec,
+                    format!("{}{prefix}{digits}", if neg { "-" } else { "" }),
+                    spec.precision.is_none(),
+                )
+            }
+            'c' => {
+                let v = get_int(&take_arg(&mut next_arg)?)?;
+                let ch = u32::try_from(v).ok().and_then(char::from_u32).unwrap_or('\u{fffd}');
+                pad(&spec, ch.to_string(), false)
+            }
+            's' => {
+                let v = take_arg(&mut next_arg)?;
+                let s: String = match spec.precision {
+                    Some(p) => v.as_str().chars().take(p).collect(),
+                    None => v.as_str().to_string(),
+                };
+                pad(&spec, s, false)
+            }
+            'f' | 'F' | 'e' | 'E' | 'g' | 'G' | 'a' | 'A' => {
+                let x = get_double(&take_arg(&mut next_arg)?)?;
+                pad(&spec, float_body(conv, x, &spec), x.is_finite())
+            }
+            other => return Err(Exception::error(format!("bad field specifier \"{other}\""))),
+        };
+        out.push_str(&piece);
+        if out.len() > super::interp::MAX_VALUE_LEN {
+            return Err(Exception::error("format result too long"));
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn f(fmt: &str, args: &[&str]) -> String {
+        let v: Vec<Value> = args.iter().map(|s| Value::from(*s)).collect();
+        format(fmt, &v).unwrap()
+    }
+
+    #[test]
+    fn printf_like_c() {
+        assert_eq!(
+            f("%5.2f|%-5d|%05d|%x|%e|%c", &["3.14159", "42", "42", "255", "1234.5", "65"]),
+            " 3.14|42   |00042|ff|1.234500e+03|A"
+        );
+        assert_eq!(f("%g %g %g", &["0.0001", "123456789", "100000"]), "0.0001 1.23457e+08 100000");
+        assert_eq!(f("%#x %#o %+d % d", &["255", "8", "5", "5"]), "0xff 010 +5  5");
+        assert_eq!(f("%2$s %1$s", &["a", "b"]), "b a");
+        assert_eq!(f("%.3g|%G", &["1234.5", "1e-10"]), "1.23e+03|1E-10");
+        assert_eq!(f("%x", &["-1"]), "ffffffffffffffff");
+    }
+}

@@ -1,0 +1,815 @@
+//! `Interp`: evaluation, variables and call frames, the command table and
+//! procs. Commands are plain functions over `&[Value]`; the host (the shell)
+//! adds its own commands as closures and supplies I/O through `Host`, so
+//! this module does no I/O of its own and knows nothing of graphics.
+
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+use std::rc::Rc;
+
+use indexmap::IndexMap;
+use rustc_hash::FxHashMap;
+
+use super::error::{Code, Exception, Loc, TclResult};
+use super::expr::{self, Expr, Operand};
+use super::parser::{Command, Parser, Part, Script, VarName, Word};
+use super::value::{Rep, Value};
+
+pub type NativeFn = fn(&mut Interp, &[Value]) -> TclResult;
+pub type HostFn = Rc<dyn Fn(&mut Interp, &[Value]) -> TclResult>;
+
+/// Nested command invocations allowed before "too many nested evaluations".
+pub const DEFAULT_MAX_DEPTH: usize = 1000;
+/// The largest string or list the interpreter builds (bytes or elements).
+pub const MAX_VALUE_LEN: usize = 1 << 30;
+
+#[derive(Clone)]
+pub(crate) enum CommandKind {
+    Native(NativeFn),
+    Host(HostFn),
+    Proc(Rc<Proc>),
+}
+
+pub struct Proc {
+    pub(crate) name: String,
+    pub(crate) params: Vec<(Rc<str>, Option<Value>)>,
+    pub(crate) variadic: bool,
+    pub(crate) body: Value,
+    pub(crate) arg_spec: Value,
+}
+
+/// What the interpreter needs from the outside world.
+pub trait Host {
+    fn stdout(&mut self, s: &str) -> std::io::Result<()>;
+    fn stderr(&mut self, s: &str) -> std::io::Result<()>;
+    fn read_file(&mut self, path: &str) -> std::io::Result<String>;
+    fn flush(&mut self) {}
+}
+
+pub(crate) enum Var {
+    Undefined,
+    Scalar(Value),
+    Array(IndexMap<String, Value>),
+}
+
+pub(crate) type VarCell = Rc<RefCell<Var>>;
+
+pub(crate) struct Frame {
+    pub(crate) vars: FxHashMap<Rc<str>, VarCell>,
+    pub(crate) level: usize,
+    /// Index of the frame whose variables the caller saw (for `upvar 1`).
+    pub(crate) caller: usize,
+    pub(crate) objv: Vec<Value>,
+}
+
+pub struct Interp {
+    commands: FxHashMap<String, CommandKind>,
+    pub(crate) frames: Vec<Frame>,
+    /// Index into `frames` of the frame whose variables are visible now.
+    pub(crate) cur: usize,
+    depth: usize,
+    pub max_depth: usize,
+    pub(crate) host: Box<dyn Host>,
+    rand_seed: i64,
+    pub(crate) script_file: Option<Rc<str>>,
+    help: BTreeMap<String, (String, String)>,
+}
+
+fn truncate_cmd(text: &str) -> String {
+    const LIMIT: usize = 150;
+    if text.len() <= LIMIT {
+        return text.to_string();
+    }
+    let mut end = LIMIT;
+    while !text.is_char_boundary(end) {
+        end -= 1;
+    }
+    format!("{}...", &text[..end])
+}
+
+/// Splits `a(b)` into ("a", Some("b")).
+pub(crate) fn split_var_name(name: &str) -> (&str, Option<&str>) {
+    if name.ends_with(')') {
+        if let Some(open) = name.find('(') {
+            return (&name[..open], Some(&name[open + 1..name.len() - 1]));
+        }
+    }
+    (name, None)
+}
+
+impl Interp {
+    pub fn new(host: Box<dyn Host>) -> Interp {
+        let mut interp = Interp {
+            commands: FxHashMap::default(),
+            frames: vec![Frame {
+                vars: FxHashMap::default(),
+                level: 0,
+                caller: 0,
+                objv: Vec::new(),
+            }],
+            cur: 0,
+            depth: 0,
+            max_depth: DEFAULT_MAX_DEPTH,
+            host,
+            rand_seed: 0,
+            script_file: None,
+            help: BTreeMap::new(),
+        };
+        interp.seed_rand(0);
+        super::builtins::register_all(&mut interp);
+        interp
+    }
+
+    // -- Commands ----------------------------------------------------------
+
+    pub fn register(&mut self, name: &str, f: NativeFn, usage: &str, summary: &str) {
+        self.commands.insert(name.to_string(), CommandKind::Native(f));
+        self.set_help(name, usage, summary);
+    }
+
+    pub fn register_host(
+        &mut self,
+        name: &str,
+        usage: &str,
+        summary: &str,
+        f: impl Fn(&mut Interp, &[Value]) -> TclResult + 'static,
+    ) {
+        self.commands.insert(name.to_string(), CommandKind::Host(Rc::new(f)));
+        self.set_help(name, usage, summary);
+    }
+
+    pub fn set_help(&mut self, name: &str, usage: &str, summary: &str) {
+        self.help.insert(name.to_string(), (usage.to_string(), summary.to_string()));
+    }
+
+    /// (usage, summary) for a command, if documented.
+    pub fn help(&self, name: &str) -> Option<(&str, &str)> {
+        self.help.get(name).map(|(u, s)| (u.as_str(), s.as_str()))
+    }
+
+    pub fn help_names(&self) -> Vec<String> {
+        self.help.keys().filter(|k| self.commands.contains_key(*k)).cloned().collect()
+    }
+
+    pub fn has_command(&self, name: &str) -> bool {
+        self.commands.contains_key(name)
+    }
+
+    pub fn command_names(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.commands.keys().cloned().collect();
+        v.sort();
+        v
+    }
+
+    pub(crate) fn proc_names(&self) -> Vec<String> {
+        let mut v: Vec<String> = self
+            .commands
+            .iter()
+            .filter(|(_, c)| matches!(c, CommandKind::Proc(_)))
+            .map(|(k, _)| k.clone())
+            .collect();
+        v.sort();
+        v
+    }
+
+    pub(crate) fn get_proc(&self, name: &str) -> Option<Rc<Proc>> {
+        match self.commands.get(name) {
+            Some(CommandKind::Proc(p)) => Some(p.clone()),
+            _ => None,
+        }
+    }
+
+    pub(crate) fn define_proc(&mut self, p: Proc) {
+        let name = p.name.clone();
+        self.commands.insert(name, CommandKind::Proc(Rc::new(p)));
+    }
+
+    pub(crate) fn rename_command(&mut self, old: &str, new: &str) -> Result<(), Exception> {
+        let cmd = self.commands.remove(old).ok_or_else(|| {
+            Exception::error(format!("can't rename \"{old}\": command doesn't exist"))
+        })?;
+        if !new.is_empty() {
+            if self.commands.contains_key(new) {
+                self.commands.insert(old.to_string(), cmd);
+                return Err(Exception::error(format!(
+                    "can't rename to \"{new}\": command already exists"
+                )));
+            }
+            self.commands.insert(new.to_string(), cmd);
+        }
+        Ok(())
+    }
+
+    // -- I/O through the host -----------------------------------------------
+
+    pub fn write_stdout(&mut self, s: &str) -> Result<(), Exception> {
+        self.host.stdout(s).map_err(|e| Exception::error(format!("error writing \"stdout\": {e}")))
+    }
+
+    pub fn write_stderr(&mut self, s: &str) -> Result<(), Exception> {
+        self.host.stderr(s).map_err(|e| Exception::error(format!("error writing \"stderr\": {e}")))
+    }
+
+    pub fn flush(&mut self) {
+        self.host.flush();
+    }
+
+    // -- Random numbers (Tcl's own generator, so `srand` matches tclsh) -------
+
+    pub(crate) fn seed_rand(&mut self, seed: i64) {
+        let mut s = seed & 0x7fff_ffff;
+        if s == 0 || s == 0x7fff_ffff {
+            s ^= 123_459_876;
+        }
+        self.rand_seed = s;
+    }
+
+    pub(crate) fn next_rand(&mut self) -> f64 {
+        const IA: i64 = 16807;
+        const IM: i64 = 2_147_483_647;
+        const IQ: i64 = 127_773;
+        const IR: i64 = 2836;
+        let tmp = self.rand_seed / IQ;
+        self.rand_seed = IA * (self.rand_seed - tmp * IQ) - IR * tmp;
+        if self.rand_seed < 0 {
+            self.rand_seed += IM;
+        }
+        self.rand_seed as f64 * (1.0 / IM as f64)
+    }
+
+    // -- Evaluation -----------------------------------------------------------
+
+    /// The parsed form of a script value (cached on the value).
+    pub(crate) fn script_of(v: &Value) -> Rc<Script> {
+        let (file, line) = match &*v.rep() {
+            Rep::Script(s) => return s.clone(),
+            Rep::Origin(f, l) => (f.clone(), *l),
+            _ => (None, 1),
+        };
+        let s = Rc::new(Script::parse(Rc::from(v.as_str()), file, line));
+        v.set_rep(Rep::Script(s.clone()));
+        s
+    }
+
+    /// Evaluates a script held in a value.
+    pub fn eval(&mut self, script: &Value) -> TclResult {
+        let s = Interp::script_of(script);
+        self.eval_script(&s)
+    }
+
+    pub fn eval_str(&mut self, src: &str) -> TclResult {
+        self.eval(&Value::from(src))
+    }
+
+    pub(crate) fn eval_script(&mut self, s: &Script) -> TclResult {
+        let mut result = Value::empty();
+        for cmd in &s.cmds {
+            // Drop the previous result first so `lappend` can grow in place.
+            drop(std::mem::take(&mut result));
+            match self.eval_command(cmd) {
+                Ok(v) => result = v,
+                Err(mut e) => {
+                    if e.code == Code::Error {
+                        add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file);
+                    }
+                    return Err(e);
+                }
+            }
+        }
+        if let Some(pe) = &s.error {
+            let text = &s.src[pe.cmd_start as usize..(pe.pos as usize).min(s.src.len())];
+            let mut e = Exception::error(pe.msg.clone());
+            add_trace(&mut e, text, pe.line, s.first_line, &s.file);
+            return Err(e);
+        }
+        Ok(result)
+    }
+
+    /// Runs a whole source file (or stdin) command by command, without
+    /// building the whole parse tree first: a mesh of a million commands
+    /// streams through in constant memory.
+    pub fn eval_source(&mut self, src: &str, file: Option<&str>) -> TclResult {
+        let file: Option<Rc<str>> = file.map(Rc::from);
+        let saved_file = std::mem::replace(&mut self.script_file, file.clone());
+        let r = self.eval_stream(src, &file);
+        self.script_file = saved_file;
+        match r {
+            Err(mut e) if e.code == Code::Error => {
+                if let Some(f) = &file {
+                    e.trace.push_str(&format!("\n    (file \"{f}\" line {})", e.script_line));
+                }
+                Err(e)
+            }
+            Err(e) if e.code == Code::Return => Ok(e.value),
+            r => r,
+        }
+    }
+
+    fn eval_stream(&mut self, src: &str, file: &Option<Rc<str>>) -> TclResult {
+        let mut p = Parser::new(Rc::from(src), file.clone(), 1);
+        let mut result = Value::empty();
+        while let Some(r) = p.next_command() {
+            drop(std::mem::take(&mut result));
+            match r {
+                Ok(cmd) => match self.eval_command(&cmd) {
+                    Ok(v) => result = v,
+                    Err(mut e) => {
+                        if e.code == Code::Error {
+                            let text = &p.src()[cmd.start as usize..cmd.end as usize];
+                            add_trace(&mut e, text, cmd.line, 1, file);
+                        }
+                        return Err(e);
+                    }
+                },
+                Err(pe) => {
+                    let text = &p.src()[pe.cmd_start as usize..(pe.pos as usize).min(src.len())];
+                    let mut e = Exception::error(pe.msg.clone());
+                    add_trace(&mut e, text, pe.line, 1, file);
+                    return Err(e);
+                }
+            }
+        }
+        Ok(result)
+    }
+
+    fn eval_command(&mut self, cmd: &Command) -> TclResult {
+        let mut argv = Vec::with_capacity(cmd.words.len());
+        for w in &cmd.words {
+            match w {
+                Word::Expand(inner) => {
+                    let v = self.eval_word(inner)?;
+                    argv.extend(v.as_list()?.iter().cloned());
+                }
+                _ => argv.push(self.eval_word(w)?),
+            }
+        }
+        if argv.is_empty() {
+            return Ok(Value::empty());
+        }
+        self.invoke(&argv)
+    }
+
+    pub(crate) fn eval_word(&mut self, w: &Word) -> TclResult {
+        match w {
+            Word::Lit(v) => Ok(v.clone()),
+            Word::Var(name) => self.get_var_name(name),
+            Word::Cmd(s) => self.eval_nested(s),
+            Word::Concat(parts) => {
+                let mut out = String::new();
+                for p in parts {
+                    match p {
+                        Part::Lit(s) => out.push_str(s),
+                        Part::Var(name) => out.push_str(self.get_var_name(name)?.as_str()),
+                        Part::Cmd(s) => out.push_str(self.eval_nested(s)?.as_str()),
+                    }
+                    if out.len() > MAX_VALUE_LEN {
+                        return Err(too_long());
+                    }
+                }
+                Ok(Value::from_string(out))
+            }
+            Word::Expand(inner) => self.eval_word(inner),
+        }
+    }
+
+    fn eval_nested(&mut self, s: &Script) -> TclResult {
+        self.enter()?;
+        let r = self.eval_script(s);
+        self.depth -= 1;
+        r
+    }
+
+    fn enter(&mut self) -> Result<(), Exception> {
+        if self.depth >= self.max_depth {
+            return Err(Exception::error("too many nested evaluations (infinite loop?)"));
+        }
+        self.depth += 1;
+        Ok(())
+    }
+
+    /// Calls a command with its words already substituted.
+    pub fn invoke(&mut self, argv: &[Value]) -> TclResult {
+        let cmd = match self.commands.get(argv[0].as_str()) {
+            Some(c) => c.clone(),
+            None => {
+                return Err(Exception::error(format!(
+                    "invalid command name \"{}\"",
+                    argv[0].as_str()
+                )));
+            }
+        };
+        self.enter()?;
+        let r = match cmd {
+            CommandKind::Native(f) => f(self, argv),
+            CommandKind::Host(f) => f(self, argv),
+            CommandKind::Proc(p) => self.call_proc(&p, argv),
+        };
+        self.depth -= 1;
+        r
+    }
+
+    fn call_proc(&mut self, p: &Proc, argv: &[Value]) -> TclResult {
+        let mut vars: FxHashMap<Rc<str>, VarCell> = FxHashMap::default();
+        let n_args = argv.len() - 1;
+        let n_fixed = p.params.len() - p.variadic as usize;
+        for (i, (name, default)) in p.params.iter().enumerate().take(n_fixed) {
+            let v = if i < n_args {
+                argv[i + 1].clone()
+            } else if let Some(d) = default {
+                d.clone()
+            } else {
+                return Err(proc_usage(p, &argv[0]));
+            };
+            vars.insert(name.clone(), Rc::new(RefCell::new(Var::Scalar(v))));
+        }
+        if p.variadic {
+            let rest = if n_args > n_fixed { argv[n_fixed + 1..].to_vec() } else { Vec::new() };
+            vars.insert(
+                Rc::from("args"),
+                Rc::new(RefCell::new(Var::Scalar(Value::from_list(rest)))),
+            );
+        } else if n_args > n_fixed {
+            return Err(proc_usage(p, &argv[0]));
+        }
+        let level = self.frames[self.cur].level + 1;
+        self.frames.push(Frame { vars, level, caller: self.cur, objv: argv.to_vec() });
+        let saved = self.cur;
+        self.cur = self.frames.len() - 1;
+        let r = self.eval(&p.body);
+        self.frames.pop();
+        self.cur = saved;
+        match r {
+            Ok(v) => Ok(v),
+            Err(mut e) => match e.code {
+                Code::Return => finish_return(e),
+                Code::Error => {
+                    e.trace.push_str(&format!(
+                        "\n    (procedure \"{}\" line {})",
+                        truncate_cmd(argv[0].as_str()),
+                        e.script_line
+                    ));
+                    Err(e)
+                }
+                Code::Break => Err(Exception::error("invoked \"break\" outside of a loop")),
+                Code::Continue => Err(Exception::error("invoked \"continue\" outside of a loop")),
+                Code::Exit(_) => Err(e),
+            },
+        }
+    }
+
+    /// Evaluates an expression held in a value (parsed form cached).
+    pub fn eval_expr(&mut self, e: &Value) -> TclResult {
+        Ok(self.eval_expr_operand(e)?.into_value())
+    }
+
+    pub(crate) fn eval_expr_operand(&mut self, e: &Value) -> Result<Operand, Exception> {
+        let ast = self.expr_of(e)?;
+        self.enter()?;
+        let r = expr::eval(self, &ast);
+        self.depth -= 1;
+        r
+    }
+
+    pub fn eval_cond(&mut self, e: &Value) -> Result<bool, Exception> {
+        let v = self.eval_expr_operand(e)?;
+        match v {
+            Operand::Int(i) => Ok(i != 0),
+            Operand::Dbl(d) => Ok(d != 0.0),
+            Operand::Str(v) => v.as_bool(),
+        }
+    }
+
+    fn expr_of(&mut self, v: &Value) -> Result<Rc<Expr>, Exception> {
+        let (file, line) = match &*v.rep() {
+            Rep::Expr(e) => return Ok(e.clone()),
+            Rep::Origin(f, l) => (f.clone(), *l),
+            _ => (None, 1),
+        };
+        let e = Rc::new(expr::parse(v.as_str(), file, line)?);
+        v.set_rep(Rep::Expr(e.clone()));
+        Ok(e)
+    }
+
+    // -- Variables --------------------------------------------------------------
+
+    fn frame_for(&self, name: &str) -> (usize, String) {
+        match name.strip_prefix("::") {
+            Some(rest) => (0, rest.to_string()),
+            None => (self.cur, name.to_string()),
+        }
+    }
+
+    pub(crate) fn find_var(&self, name: &str) -> Option<VarCell> {
+        let (frame, local) = match name.strip_prefix("::") {
+            Some(rest) => (0, rest),
+            None => (self.cur, name),
+        };
+        self.frames[frame].vars.get(local).cloned()
+    }
+
+    pub(crate) fn var_cell(&mut self, name: &str) -> VarCell {
+        if let Some(c) = self.find_var(name) {
+            return c;
+        }
+        let (frame, local) = self.frame_for(name);
+        let cell = Rc::new(RefCell::new(Var::Undefined));
+        self.frames[frame].vars.insert(Rc::from(local), cell.clone());
+        cell
+    }
+
+    fn get_var_name(&mut self, name: &VarName) -> TclResult {
+        match name {
+            VarName::Scalar(n) => self.get_scalar_or_elem(n, None),
+            VarName::Elem(n, idx) => {
+                let idx = self.eval_word(idx)?;
+                self.get_scalar_or_elem(n, Some(idx.as_str()))
+            }
+        }
+    }
+
+    /// Reads a variable given as `name` or `name(index)`.
+    pub fn get_var(&mut self, name: &str) -> TclResult {
+        let (base, idx) = split_var_name(name);
+        self.get_scalar_or_elem(base, idx)
+    }
+
+    fn get_scalar_or_elem(&mut self, name: &str, idx: Option<&str>) -> TclResult {
+        let full = || match idx {
+            Some(i) => format!("{name}({i})"),
+            None => name.to_string(),
+        };
+        let Some(cell) = self.find_var(name) else {
+            return Err(Exception::error(format!("can't read \"{}\": no such variable", full())));
+        };
+        let var = cell.borrow();
+        match (&*var, idx) {
+            (Var::Scalar(v), None) => Ok(v.clone()),
+            (Var::Array(_), None) => {
+                Err(Exception::error(format!("can't read \"{name}\": variable is array")))
+            }
+            (Var::Array(a), Some(i)) => a.get(i).cloned().ok_or_else(|| {
+                Exception::error(format!("can't read \"{}\": no such element in array", full()))
+            }),
+            (Var::Scalar(_), Some(_)) => {
+                Err(Exception::error(format!("can't read \"{}\": variable isn't array", full())))
+            }
+            (Var::Undefined, _) => {
+                Err(Exception::error(format!("can't read \"{}\": no such variable", full())))
+            }
+        }
+    }
+
+    /// Sets a variable given as `name` or `name(index)`; returns the value.
+    pub fn set_var(&mut self, name: &str, v: Value) -> TclResult {
+        let (base, idx) = split_var_name(name);
+        let cell = self.var_cell(base);
+        let mut var = cell.borrow_mut();
+        match idx {
+            None => match &mut *var {
+                Var::Array(_) => {
+                    Err(Exception::error(format!("can't set \"{name}\": variable is array")))
+                }
+                slot => {
+                    *slot = Var::Scalar(v.clone());
+                    Ok(v)
+                }
+            },
+            Some(i) => match &mut *var {
+                Var::Scalar(_) => {
+                    Err(Exception::error(format!("can't set \"{name}\": variable isn't array")))
+                }
+                Var::Array(a) => {
+                    a.insert(i.to_string(), v.clone());
+                    Ok(v)
+                }
+                slot => {
+                    let mut a = IndexMap::new();
+                    a.insert(i.to_string(), v.clone());
+                    *slot = Var::Array(a);
+                    Ok(v)
+                }
+            },
+        }
+    }
+
+    /// Changes a variable's value in place (for `append`, `lappend`, `incr`),
+    /// creating it from `init` when it does not exist.
+    pub(crate) fn update_var(
+        &mut self,
+        name: &str,
+        init: Option<Value>,
+        f: &mut dyn FnMut(&mut Value) -> Result<(), Exception>,
+    ) -> TclResult {
+        let (base, idx) = split_var_name(name);
+        let cell = self.var_cell(base);
+        let mut var = cell.borrow_mut();
+        let missing = || Exception::error(format!("can't read \"{name}\": no such variable"));
+        let slot: &mut Value = match (&mut *var, idx) {
+            (Var::Scalar(v), None) => v,
+            (Var::Array(_), None) => {
+                return Err(Exception::error(format!("can't set \"{name}\": variable is array")));
+            }
+            (Var::Scalar(_), Some(_)) => {
+                return Err(Exception::error(format!(
+                    "can't set \"{name}\": variable isn't array"
+                )));
+            }
+            (Var::Array(a), Some(i)) => {
+                if !a.contains_key(i) {
+                    a.insert(i.to_string(), init.ok_or_else(missing)?);
+                }
+                a.get_mut(i).expect("inserted above")
+            }
+            (slot @ Var::Undefined, i) => {
+                let v = init.ok_or_else(missing)?;
+                *slot = match i {
+                    None => Var::Scalar(v),
+                    Some(i) => Var::Array(IndexMap::from([(i.to_string(), v)])),
+                };
+                match (slot, i) {
+                    (Var::Scalar(v), None) => v,
+                    (Var::Array(a), Some(i)) => a.get_mut(i).expect("just created"),
+                    _ => unreachable!("slot was just assigned"),
+                }
+            }
+        };
+        f(slot)?;
+        Ok(slot.clone())
+    }
+
+    pub fn unset_var(&mut self, name: &str) -> Result<(), Exception> {
+        let (base, idx) = split_var_name(name);
+        let err = || Exception::error(format!("can't unset \"{name}\": no such variable"));
+        let cell = self.find_var(base).ok_or_else(err)?;
+        let mut var = cell.borrow_mut();
+        match (&mut *var, idx) {
+            (Var::Undefined, _) => return Err(err()),
+            (Var::Array(a), Some(i)) => {
+                if a.shift_remove(i).is_none() {
+                    return Err(Exception::error(format!(
+                        "can't unset \"{name}\": no such element in array"
+                    )));
+                }
+                return Ok(());
+            }
+            (Var::Scalar(_), Some(_)) => {
+                return Err(Exception::error(format!(
+                    "can't unset \"{name}\": variable isn't array"
+                )));
+            }
+            (slot, None) => *slot = Var::Undefined,
+        }
+        drop(var);
+        let (frame, local) = self.frame_for(base);
+        self.frames[frame].vars.remove(local.as_str());
+        Ok(())
+    }
+
+    pub fn var_exists(&self, name: &str) -> bool {
+        let (base, idx) = split_var_name(name);
+        let Some(cell) = self.find_var(base) else { return false };
+        let var = cell.borrow();
+        match (&*var, idx) {
+            (Var::Scalar(_), None) | (Var::Array(_), None) => true,
+            (Var::Array(a), Some(i)) => a.contains_key(i),
+            _ => false,
+        }
+    }
+
+    /// The frame index for a Tcl level spec (`1`, `#0`), relative to now.
+    pub(crate) fn resolve_level(&self, spec: &str) -> Result<usize, Exception> {
+        let bad = || Exception::error(format!("bad level \"{spec}\""));
+        if let Some(abs) = spec.strip_prefix('#') {
+            let n: usize = abs.parse().map_err(|_| bad())?;
+            let mut f = self.cur;
+            loop {
+                if self.frames[f].level == n {
+                    return Ok(f);
+                }
+                if f == 0 || self.frames[f].level < n {
+                    return Err(bad());
+                }
+                f = self.frames[f].caller;
+            }
+        }
+        let n: usize = spec.parse().map_err(|_| bad())?;
+        let mut f = self.cur;
+        for _ in 0..n {
+            if self.frames[f].level == 0 {
+                return Err(bad());
+            }
+            f = self.frames[f].caller;
+        }
+        Ok(f)
+    }
+
+    /// Makes `local` in the current frame an alias of `other` in `frame`.
+    pub(crate) fn link_var(
+        &mut self,
+        frame: usize,
+        other: &str,
+        local: &str,
+    ) -> Result<(), Exception> {
+        let (frame, other) = match other.strip_prefix("::") {
+            Some(rest) => (0, rest),
+            None => (frame, other),
+        };
+        if split_var_name(other).1.is_some() {
+            return Err(Exception::error(format!(
+                "can't upvar to array element \"{other}\" (not supported by rayshell)"
+            )));
+        }
+        let cell = match self.frames[frame].vars.get(other) {
+            Some(c) => c.clone(),
+            None => {
+                let c = Rc::new(RefCell::new(Var::Undefined));
+                self.frames[frame].vars.insert(Rc::from(other), c.clone());
+                c
+            }
+        };
+        if let Some(existing) = self.frames[self.cur].vars.get(local) {
+            if Rc::ptr_eq(existing, &cell) {
+                return Ok(());
+            }
+            if !matches!(*existing.borrow(), Var::Undefined) {
+                return Err(Exception::error(format!("variable \"{local}\" already exists")));
+            }
+        }
+        self.frames[self.cur].vars.insert(Rc::from(local), cell);
+        Ok(())
+    }
+
+    /// Runs `f` with the frame at index `frame` as the current one.
+    pub(crate) fn in_frame(
+        &mut self,
+        frame: usize,
+        f: impl FnOnce(&mut Interp) -> TclResult,
+    ) -> TclResult {
+        let saved = self.cur;
+        self.cur = frame;
+        let r = f(self);
+        self.cur = saved;
+        r
+    }
+
+    pub(crate) fn level(&self) -> usize {
+        self.frames[self.cur].level
+    }
+}
+
+fn too_long() -> Exception {
+    Exception::error(format!(
+        "string too long: rayshell values are limited to {MAX_VALUE_LEN} bytes"
+    ))
+}
+
+pub(crate) fn check_len(n: usize) -> Result<(), Exception> {
+    if n > MAX_VALUE_LEN { Err(too_long()) } else { Ok(()) }
+}
+
+fn add_trace(e: &mut Exception, text: &str, line: u32, first_line: u32, file: &Option<Rc<str>>) {
+    let text = truncate_cmd(text);
+    if e.traced {
+        e.trace.push_str("\n    invoked from within\n\"");
+    } else {
+        e.trace.push_str("\n    while executing\n\"");
+        e.traced = true;
+    }
+    e.trace.push_str(&text);
+    e.trace.push('"');
+    e.script_line = line + 1 - first_line;
+    if e.loc.is_none() && file.is_some() {
+        e.loc = Some(Loc { file: file.clone(), line });
+    }
+}
+
+fn proc_usage(p: &Proc, name: &Value) -> Exception {
+    let mut usage = name.as_str().to_string();
+    for (i, (param, default)) in p.params.iter().enumerate() {
+        if p.variadic && i == p.params.len() - 1 {
+            usage.push_str(" ?arg ...?");
+        } else if default.is_some() {
+            usage.push_str(&format!(" ?{param}?"));
+        } else {
+            usage.push_str(&format!(" {param}"));
+        }
+    }
+    Exception::wrong_args(&usage)
+}
+
+/// Applies `return -level`: one level is used up at each proc boundary.
+pub(crate) fn finish_return(mut e: Exception) -> TclResult {
+    if e.level > 1 {
+        e.level -= 1;
+        return Err(e);
+    }
+    match e.return_code {
+        None => Ok(e.value),
+        Some(Code::Error) => {
+            let mut err = Exception::error(e.value.as_str().to_string());
+            err.error_code = e.error_code;
+            Err(err)
+        }
+        Some(code) => Err(Exception::flow(code, e.value)),
+    }
+}

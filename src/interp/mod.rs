@@ -1,0 +1,29 @@
+//! A Tcl 8.6-compatible interpreter. It knows nothing of graphics: the
+//! shell registers the scene commands into it and supplies I/O (`Host`).
+//!
+//! Reading order: `parser` (script -> commands -> words), `value` (the
+//! dual-ported value), `interp` (evaluation, frames, procs), `expr`,
+//! `builtins`, then the leaves `number`, `list`, `format`, `error`.
+
+mod builtins;
+mod error;
+mod expr;
+mod format;
+mod interp;
+mod list;
+mod number;
+mod parser;
+mod value;
+
+pub use error::{Code, Exception, Loc, TclResult};
+pub use interp::{Host, Interp, MAX_VALUE_LEN};
+pub use list::{format_list, quote};
+pub use number::{format_double, parse_double};
+pub use parser::is_complete;
+pub use value::Value;
+
+/// Checks a command's argument count, producing Tcl's
+/// `wrong # args: should be "name usage"`.
+pub fn check_args(argv: &[Value], min: usize, max: usize, usage: &str) -> Result<(), Exception> {
+    builtins::check_args(argv, min, max, usage)
+}

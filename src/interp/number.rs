@@ -1,0 +1,226 @@
+//! Numbers as Tcl 8.6 reads and prints them: integer syntaxes (`0x`, `0o`,
+//! `0b`, leading-zero octal), doubles, booleans, and the shortest round-trip
+//! printing of doubles (`1.0`, `0.30000000000000004`, `1e+20`).
+
+use super::error::Exception;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Num {
+    Int(i64),
+    Double(f64),
+}
+
+impl Num {
+    pub fn to_f64(self) -> f64 {
+        match self {
+            Num::Int(i) => i as f64,
+            Num::Double(d) => d,
+        }
+    }
+
+    pub fn truthy(self) -> bool {
+        match self {
+            Num::Int(i) => i != 0,
+            Num::Double(d) => d != 0.0,
+        }
+    }
+}
+
+fn trim_tcl(s: &str) -> &str {
+    s.trim_matches(|c: char| matches!(c, ' ' | '\t' | '\n' | '\r' | '\x0b' | '\x0c'))
+}
+
+/// Parses an integer in any Tcl syntax (surrounding white space allowed).
+pub fn parse_int(s: &str) -> Option<i64> {
+    let t = trim_tcl(s);
+    let (neg, body) = match t.as_bytes().first()? {
+        b'-' => (true, &t[1..]),
+        b'+' => (false, &t[1..]),
+        _ => (false, t),
+    };
+    let b = body.as_bytes();
+    if b.is_empty() {
+        return None;
+    }
+    let (radix, digits) = if b.len() > 1 && b[0] == b'0' {
+        match b[1] {
+            b'x' | b'X' => (16, &body[2..]),
+            b'o' | b'O' => (8, &body[2..]),
+            b'b' | b'B' => (2, &body[2..]),
+            b'0'..=b'9' => (8, &body[1..]),
+            _ => return None,
+        }
+    } else {
+        (10, body)
+    };
+    if digits.is_empty() || !digits.bytes().all(|c| (c as char).is_digit(radix)) {
+        return None;
+    }
+    let mag = u64::from_str_radix(digits, radix).ok()?;
+    if neg {
+        if mag <= i64::MAX as u64 + 1 { Some((mag as i64).wrapping_neg()) } else { None }
+    } else {
+        i64::try_from(mag).ok()
+    }
+}
+
+/// Parses a double in Tcl syntax; integers are accepted too.
+pub fn parse_double(s: &str) -> Option<f64> {
+    if let Some(i) = parse_int(s) {
+        return Some(i as f64);
+    }
+    let t = trim_tcl(s);
+    let b = t.as_bytes();
+    let body = t.strip_prefix(['+', '-']).unwrap_or(t);
+    if body.len() > 1 && body.starts_with('0') && body.bytes().all(|c| c.is_ascii_digit()) {
+        return None; // An invalid octal integer such as 08 is not a double either.
+    }
+    let lower = body.to_ascii_lowercase();
+    if matches!(lower.as_str(), "inf" | "infinity" | "nan") {
+        let v: f64 = t.parse().ok()?;
+        return Some(v);
+    }
+    // Rust accepts a few spellings Tcl does not; check the shape first.
+    if b.is_empty()
+        || !b.iter().all(|c| c.is_ascii_digit() || matches!(c, b'.' | b'e' | b'E' | b'+' | b'-'))
+        || !body.bytes().next().is_some_and(|c| c.is_ascii_digit() || c == b'.')
+    {
+        return None;
+    }
+    t.parse().ok()
+}
+
+/// A number of either kind: integers stay integers.
+pub fn parse_num(s: &str) -> Option<Num> {
+    if let Some(i) = parse_int(s) {
+        return Some(Num::Int(i));
+    }
+    parse_double(s).map(Num::Double)
+}
+
+pub fn parse_bool(s: &str) -> Option<bool> {
+    let l = s.to_ascii_lowercase();
+    let l = l.as_str();
+    if l.is_empty() {
+        return None;
+    }
+    let prefix_of = |w: &str, min: usize| l.len() >= min && w.starts_with(l);
+    if prefix_of("true", 1) || prefix_of("yes", 1) || prefix_of("on", 2) {
+        Some(true)
+    } else if prefix_of("false", 1) || prefix_of("no", 1) || prefix_of("off", 2) {
+        Some(false)
+    } else {
+        None
+    }
+}
+
+pub fn int_error(s: &str) -> Exception {
+    let t = trim_tcl(s);
+    let octal_like = t.len() > 1
+        && t.trim_start_matches(['+', '-']).starts_with('0')
+        && t.trim_start_matches(['+', '-']).bytes().all(|c| c.is_ascii_digit());
+    if octal_like {
+        Exception::error(format!(
+            "expected integer but got \"{s}\" (looks like invalid octal number)"
+        ))
+    } else {
+        Exception::error(format!("expected integer but got \"{s}\""))
+    }
+}
+
+/// Prints a double exactly as Tcl 8.6 does: the shortest digits that read
+/// back to the same double, in `%g`-like layout with a 17-digit threshold,
+/// and always with a `.` or exponent so it stays a double.
+pub fn format_double(d: f64) -> String {
+    if d.is_nan() {
+        return "NaN".into();
+    }
+    if d.is_infinite() {
+        return if d > 0.0 { "Inf".into() } else { "-Inf".into() };
+    }
+    if d == 0.0 {
+        return if d.is_sign_negative() { "-0.0".into() } else { "0.0".into() };
+    }
+    let e = format!("{d:e}");
+    let (mant, exp) = e.split_once('e').expect("LowerExp always writes an exponent");
+    let exp: i32 = exp.parse().expect("LowerExp writes a decimal exponent");
+    let (neg, mant) = match mant.strip_prefix('-') {
+        Some(m) => (true, m),
+        None => (false, mant),
+    };
+    let digits: String = mant.chars().filter(|c| *c != '.').collect();
+    let mut out = String::with_capacity(24);
+    if neg {
+        out.push('-');
+    }
+    if !(-4..17).contains(&exp) {
+        out.push_str(&digits[..1]);
+        if digits.len() > 1 {
+            out.push('.');
+            out.push_str(&digits[1..]);
+        }
+        out.push('e');
+        out.push(if exp < 0 { '-' } else { '+' });
+        out.push_str(&exp.abs().to_string());
+    } else if exp < 0 {
+        out.push_str("0.");
+        for _ in 0..(-exp - 1) {
+            out.push('0');
+        }
+        out.push_str(&digits);
+    } else {
+        let int_len = exp as usize + 1;
+        if digits.len() <= int_len {
+            out.push_str(&digits);
+            for _ in digits.len()..int_len {
+                out.push('0');
+            }
+            out.push_str(".0");
+        } else {
+            out.push_str(&digits[..int_len]);
+            out.push('.');
+            out.push_str(&digits[int_len..]);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn doubles_print_like_tcl() {
+        let cases = [
+            (1.0, "1.0"),
+            (0.1 + 0.2, "0.30000000000000004"),
+            (1e20, "1e+20"),
+            (1e-5, "1e-5"),
+            (1e-4, "0.0001"),
+            (1e16, "10000000000000000.0"),
+            (123456789012345678.0, "1.2345678901234568e+17"),
+            (-2.5, "-2.5"),
+            (7.826369259425611e-6, "7.826369259425611e-6"),
+            (f64::INFINITY, "Inf"),
+        ];
+        for (d, want) in cases {
+            assert_eq!(format_double(d), want, "{d:e}");
+        }
+    }
+
+    #[test]
+    fn integers_in_every_syntax() {
+        assert_eq!(parse_int(" 42 "), Some(42));
+        assert_eq!(parse_int("0x1F"), Some(31));
+        assert_eq!(parse_int("010"), Some(8));
+        assert_eq!(parse_int("0b101"), Some(5));
+        assert_eq!(parse_int("-0o17"), Some(-15));
+        assert_eq!(parse_int("08"), None);
+        assert_eq!(parse_int("-9223372036854775808"), Some(i64::MIN));
+        assert_eq!(parse_int("1.0"), None);
+        assert_eq!(parse_double("1e3"), Some(1000.0));
+        assert_eq!(parse_double(".5"), Some(0.5));
+        assert_eq!(parse_double("abc"), None);
+        assert_eq!(parse_double("1_0"), None);
+    }
+}

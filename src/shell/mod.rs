@@ -1,0 +1,246 @@
+//! The shell: everything that touches the outside world. It parses the
+//! command line, owns the interpreter and its I/O (`StdHost`), runs scripts,
+//! stdin or the REPL, and turns outcomes into exit codes.
+//!
+//! Exit codes: 0 success; 1 a script error (or `exit 1`); 2 a usage error;
+//! `exit N` in a script exits with N.
+
+mod args;
+mod repl;
+
+use std::cell::RefCell;
+use std::io::{IsTerminal, Read, Write};
+use std::process::ExitCode;
+use std::rc::Rc;
+
+use crate::interp::{Code, Exception, Host, Interp, Value};
+
+pub use args::Cli;
+
+/// Stack for the interpreter thread: deep (but bounded) Tcl recursion must
+/// hit the interpreter's own limit long before the native stack runs out.
+pub const INTERP_STACK_BYTES: usize = 512 << 20;
+
+/// Runs `f` on a thread with the interpreter's large stack and waits for it.
+pub fn on_big_stack<T: Send + 'static>(
+    f: impl FnOnce() -> T + Send + 'static,
+) -> std::thread::Result<T> {
+    std::thread::Builder::new()
+        .name("interp".into())
+        .stack_size(INTERP_STACK_BYTES)
+        .spawn(f)
+        .map_err(|e| Box::new(e) as Box<dyn std::any::Any + Send>)?
+        .join()
+}
+
+/// Real stdout (buffered) and stderr.
+pub struct StdHost {
+    out: std::io::BufWriter<std::io::Stdout>,
+}
+
+impl StdHost {
+    pub fn new() -> StdHost {
+        StdHost { out: std::io::BufWriter::with_capacity(1 << 16, std::io::stdout()) }
+    }
+}
+
+impl Default for StdHost {
+    fn default() -> Self {
+        StdHost::new()
+    }
+}
+
+impl Host for StdHost {
+    fn stdout(&mut self, s: &str) -> std::io::Result<()> {
+        self.out.write_all(s.as_bytes())
+    }
+    fn stderr(&mut self, s: &str) -> std::io::Result<()> {
+        self.out.flush()?;
+        std::io::stderr().write_all(s.as_bytes())
+    }
+    fn read_file(&mut self, path: &str) -> std::io::Result<String> {
+        read_text(path)
+    }
+    fn flush(&mut self) {
+        let _ = self.out.flush();
+    }
+}
+
+/// Output captured in memory, for tests and embedding.
+#[derive(Clone, Default)]
+pub struct CaptureHost {
+    pub out: Rc<RefCell<String>>,
+    pub err: Rc<RefCell<String>>,
+}
+
+impl Host for CaptureHost {
+    fn stdout(&mut self, s: &str) -> std::io::Result<()> {
+        self.out.borrow_mut().push_str(s);
+        Ok(())
+    }
+    fn stderr(&mut self, s: &str) -> std::io::Result<()> {
+        self.err.borrow_mut().push_str(s);
+        Ok(())
+    }
+    fn read_file(&mut self, path: &str) -> std::io::Result<String> {
+        read_text(path)
+    }
+}
+
+/// Reads a file as text; bytes that are not UTF-8 become U+FFFD rather
+/// than an error, as a binary-garbage scene should give a Tcl error.
+pub fn read_text(path: &str) -> std::io::Result<String> {
+    let bytes = std::fs::read(path)?;
+    Ok(match String::from_utf8(bytes) {
+        Ok(s) => s,
+        Err(e) => String::from_utf8_lossy(e.as_bytes()).into_owned(),
+    })
+}
+
+/// A new interpreter with the rayshell commands registered.
+pub fn new_interp(host: Box<dyn Host>) -> Interp {
+    let mut interp = Interp::new(host);
+    register_shell_commands(&mut interp);
+    interp
+}
+
+fn register_shell_commands(interp: &mut Interp) {
+    interp.register_host(
+        "help",
+        "?command?",
+        "list commands, or show one command's usage",
+        |interp, argv| {
+            crate::interp::check_args(argv, 1, 2, "?command?")?;
+            Ok(Value::from_string(help_text(interp, argv.get(1).map(|v| v.as_str()))?))
+        },
+    );
+}
+
+pub fn help_text(interp: &Interp, name: Option<&str>) -> Result<String, Exception> {
+    match name {
+        Some(n) => match interp.help(n) {
+            Some((usage, summary)) => Ok(format!("{n} {usage}\n    {summary}")),
+            None if interp.has_command(n) => Ok(format!("{n}: a procedure")),
+            None => Err(Exception::error(format!("no help for \"{n}\": no such command"))),
+        },
+        None => {
+            let names = interp.help_names();
+            let width = names.iter().map(|n| n.len()).max().unwrap_or(0);
+            let lines: Vec<String> = names
+                .iter()
+                .map(|n| {
+                    let (usage, _) = interp.help(n).unwrap_or(("", ""));
+                    format!("{n:width$} {usage}")
+                })
+                .collect();
+            Ok(lines.join("\n"))
+        }
+    }
+}
+
+/// Prints an uncaught error as `file:line: message` plus the Tcl trace.
+pub fn report_error(interp: &mut Interp, e: &Exception) {
+    interp.flush();
+    let info = e.error_info();
+    let trace = info.strip_prefix(e.message()).unwrap_or(info);
+    let mut text = e.located_message();
+    text.push_str(trace);
+    text.push('\n');
+    let _ = interp.write_stderr(&text);
+}
+
+/// Runs a script file or string as the main program. Returns the exit code.
+pub fn run_main_script(interp: &mut Interp, src: &str, file: Option<&str>) -> i32 {
+    let r = interp.eval_source(src, file);
+    finish(interp, r)
+}
+
+/// Turns the outcome of a top-level script into an exit code.
+pub fn finish(interp: &mut Interp, r: Result<Value, Exception>) -> i32 {
+    let code = match r {
+        Ok(_) => 0,
+        Err(e) => match e.code {
+            Code::Exit(n) => n,
+            Code::Return => 0,
+            Code::Break | Code::Continue => {
+                let word = if e.code == Code::Break { "break" } else { "continue" };
+                let mut err = Exception::error(format!("invoked \"{word}\" outside of a loop"));
+                err.loc = e.loc.clone();
+                report_error(interp, &err);
+                1
+            }
+            Code::Error => {
+                report_error(interp, &e);
+                1
+            }
+        },
+    };
+    interp.flush();
+    code
+}
+
+fn set_argv(interp: &mut Interp, argv0: &str, args: &[String]) {
+    let list: Vec<Value> = args.iter().map(|a| Value::from(a.as_str())).collect();
+    let _ = interp.set_var("argv0", Value::from(argv0));
+    let _ = interp.set_var("argc", Value::from_int(args.len() as i64));
+    let _ = interp.set_var("argv", Value::from_list(list));
+}
+
+/// The program: parse arguments, then run a script, `-c`, stdin or the REPL.
+pub fn main() -> ExitCode {
+    let cli = match args::parse() {
+        Ok(c) => c,
+        Err(code) => return ExitCode::from(code),
+    };
+    // The interpreter runs on a thread with a large stack (see above).
+    let code = match on_big_stack(move || run(cli)) {
+        Ok(code) => code,
+        _ => {
+            eprintln!("raytrace: internal error (please report it)");
+            70
+        }
+    };
+    ExitCode::from(code.clamp(0, 255) as u8)
+}
+
+fn run(cli: Cli) -> i32 {
+    let mut interp = new_interp(Box::new(StdHost::new()));
+    if let Some(cmd) = &cli.command {
+        set_argv(&mut interp, "raytrace", &cli.args);
+        return run_main_script(&mut interp, cmd, None);
+    }
+    match &cli.script {
+        Some(path) => {
+            let path_str = path.to_string_lossy().into_owned();
+            set_argv(&mut interp, &path_str, &cli.args);
+            let src = match read_text(&path_str) {
+                Ok(s) => s,
+                Err(e) => {
+                    eprintln!("raytrace: couldn't read file \"{path_str}\": {}", io_reason(&e));
+                    return 1;
+                }
+            };
+            run_main_script(&mut interp, &src, Some(&path_str))
+        }
+        None if std::io::stdin().is_terminal() => repl::run(&mut interp),
+        None => {
+            set_argv(&mut interp, "raytrace", &cli.args);
+            let mut src = String::new();
+            let mut bytes = Vec::new();
+            if let Err(e) = std::io::stdin().read_to_end(&mut bytes) {
+                eprintln!("raytrace: error reading stdin: {e}");
+                return 1;
+            }
+            src.push_str(&String::from_utf8_lossy(&bytes));
+            run_main_script(&mut interp, &src, Some("stdin"))
+        }
+    }
+}
+
+pub fn io_reason(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file or directory".into(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".into(),
+        _ => e.to_string().to_lowercase(),
+    }
+}

@@ -1,0 +1,148 @@
+//! The interactive shell (rustyline): a `% ` prompt, history kept across
+//! sessions, continuation lines while braces, brackets or quotes are open,
+//! tab completion of command names. Errors are printed and the session
+//! (variables, procs, the scene) survives.
+
+use std::borrow::Cow;
+use std::path::PathBuf;
+
+use rustyline::completion::{Completer, Pair};
+use rustyline::error::ReadlineError;
+use rustyline::highlight::Highlighter;
+use rustyline::hint::Hinter;
+use rustyline::history::DefaultHistory;
+use rustyline::validate::{ValidationContext, ValidationResult, Validator};
+use rustyline::{Context, Editor, Helper};
+
+use crate::interp::{Code, Interp, is_complete};
+
+struct ShellHelper {
+    names: Vec<String>,
+}
+
+impl Completer for ShellHelper {
+    type Candidate = Pair;
+
+    fn complete(
+        &self,
+        line: &str,
+        pos: usize,
+        _: &Context<'_>,
+    ) -> rustyline::Result<(usize, Vec<Pair>)> {
+        let start = line[..pos]
+            .rfind(|c: char| c.is_whitespace() || matches!(c, '[' | ';' | '{'))
+            .map(|i| i + 1)
+            .unwrap_or(0);
+        let word = &line[start..pos];
+        let pairs = self
+            .names
+            .iter()
+            .filter(|n| n.starts_with(word))
+            .map(|n| Pair { display: n.clone(), replacement: n.clone() })
+            .collect();
+        Ok((start, pairs))
+    }
+}
+
+impl Hinter for ShellHelper {
+    type Hint = String;
+}
+
+impl Highlighter for ShellHelper {
+    fn highlight_prompt<'b, 's: 'b, 'p: 'b>(
+        &'s self,
+        prompt: &'p str,
+        _default: bool,
+    ) -> Cow<'b, str> {
+        Cow::Borrowed(prompt)
+    }
+}
+
+impl Validator for ShellHelper {
+    fn validate(&self, ctx: &mut ValidationContext<'_>) -> rustyline::Result<ValidationResult> {
+        Ok(if is_complete(ctx.input()) {
+            ValidationResult::Valid(None)
+        } else {
+            ValidationResult::Incomplete
+        })
+    }
+}
+
+impl Helper for ShellHelper {}
+
+fn history_path() -> Option<PathBuf> {
+    let base = std::env::var_os("XDG_DATA_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".local/share")))?;
+    let dir = base.join("rayshell");
+    std::fs::create_dir_all(&dir).ok()?;
+    Some(dir.join("history"))
+}
+
+/// Runs the REPL until Ctrl-D or `exit`; returns the exit code.
+pub fn run(interp: &mut Interp) -> i32 {
+    let mut rl: Editor<ShellHelper, DefaultHistory> = match Editor::new() {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("raytrace: cannot start the interactive shell: {e}");
+            return 1;
+        }
+    };
+    rl.set_helper(Some(ShellHelper { names: Vec::new() }));
+    let history = history_path();
+    if let Some(h) = &history {
+        let _ = rl.load_history(h);
+    }
+    println!("rayshell {} — type `help` for commands, Ctrl-D to quit", env!("CARGO_PKG_VERSION"));
+    let mut code = 0;
+    loop {
+        if let Some(h) = rl.helper_mut() {
+            h.names = interp.command_names();
+        }
+        match rl.readline("% ") {
+            Ok(line) => {
+                if line.trim().is_empty() {
+                    continue;
+                }
+                let _ = rl.add_history_entry(line.as_str());
+                let r = interp.eval_source(&line, None);
+                interp.flush();
+                match r {
+                    Ok(v) => {
+                        if !v.as_str().is_empty() {
+                            println!("{}", v.as_str());
+                        }
+                    }
+                    Err(e) => match e.code {
+                        Code::Exit(n) => {
+                            code = n;
+                            break;
+                        }
+                        Code::Error => eprintln!("{}", e.message()),
+                        Code::Return => {
+                            if !e.value.as_str().is_empty() {
+                                println!("{}", e.value.as_str());
+                            }
+                        }
+                        Code::Break | Code::Continue => {
+                            let w = if e.code == Code::Break { "break" } else { "continue" };
+                            eprintln!("invoked \"{w}\" outside of a loop");
+                        }
+                    },
+                }
+            }
+            Err(ReadlineError::Interrupted) => continue,
+            Err(ReadlineError::Eof) => break,
+            Err(e) => {
+                eprintln!("raytrace: {e}");
+                code = 1;
+                break;
+            }
+        }
+    }
+    if let Some(h) = &history {
+        let _ = rl.save_history(h);
+    }
+    interp.flush();
+    code
+}
