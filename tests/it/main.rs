@@ -1,1 +1,5 @@
-mod placeholder {}
+//! The integration tests: one binary (ripgrep's layout).
+
+mod cli;
+mod lang;
+mod util;

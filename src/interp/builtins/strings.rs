@@ -366,7 +366,7 @@ fn string_is(a: &[Value]) -> TclResult {
     let v = &a[a.len() - 1];
     let s = v.as_str();
     if s.is_empty() {
-        return Ok(Value::from_bool(!strict));
+        return Ok(Value::from_bool(!strict || class == "list"));
     }
     let all = |f: fn(char) -> bool| s.chars().all(f);
     let r = match class {
@@ -375,7 +375,7 @@ fn string_is(a: &[Value]) -> TclResult {
         "ascii" => s.is_ascii(),
         "boolean" => number::parse_bool(s).is_some() || matches!(number::parse_int(s), Some(0 | 1)),
         "true" => {
-            number::parse_bool(s) == Some(true) || number::parse_int(s).is_some_and(|i| i != 0)
+            number::parse_bool(s) == Some(true) || number::parse_int(s) == Some(1)
         }
         "false" => number::parse_bool(s) == Some(false) || number::parse_int(s) == Some(0),
         "control" => all(char::is_control),

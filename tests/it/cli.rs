@@ -1,0 +1,58 @@
+//! The command line: options, stdin, -c, argv, help and version.
+
+use crate::util::{run, text};
+
+#[test]
+fn dash_c_and_stdin() {
+    let out = run(&["-c", "puts [expr {6 * 7}]"], "");
+    assert_eq!(text(&out.stdout), "42\n");
+    let out = run(&[], "puts hi\nputs [llength {a b}]\n");
+    assert_eq!(text(&out.stdout), "hi\n2\n");
+    assert_eq!(out.status.code(), Some(0));
+    let out = run(&[], "puts a\nnope\nputs b\n");
+    assert_eq!(text(&out.stdout), "a\n");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).starts_with("stdin:2: invalid command name \"nope\""));
+}
+
+#[test]
+fn argv_like_tclsh() {
+    let out = run(&["-c", "puts \"$argc [lindex $argv 1]\"", "--", "a", "b c"], "");
+    assert_eq!(text(&out.stdout), "2 b c\n");
+}
+
+#[test]
+fn options() {
+    let out = run(&["--version"], "");
+    assert!(text(&out.stdout).starts_with("raytrace "));
+    let out = run(&["--help"], "");
+    assert!(text(&out.stdout).contains("Usage"));
+    let out = run(&["--bogus"], "");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("--bogus"));
+    let out = run(&["no/such/file.tsd"], "");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("couldn't read file"));
+}
+
+#[test]
+fn help_lists_commands() {
+    let out = run(&["-c", "puts [help]; puts [help lsort]"], "");
+    let s = text(&out.stdout);
+    assert!(s.contains("foreach  varList list"), "{s}");
+    assert!(s.contains("lsort ?-option value ...? list"), "{s}");
+}
+
+#[test]
+fn no_panic_on_garbage() {
+    let garbage: String = (0..2000u32).map(|i| char::from_u32((i * 7919) % 0x2FF + 1).unwrap_or('x')).collect();
+    let out = run(&[], &garbage);
+    assert_ne!(out.status.code(), Some(101));
+    let deep = "[".repeat(100_000);
+    let out = run(&["-c", &deep], "");
+    assert_eq!(out.status.code(), Some(1));
+    let braces = format!("puts {}", "{".repeat(100_000));
+    let out = run(&["-c", &braces], "");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("missing close-brace"));
+}

@@ -1,0 +1,1 @@
+puts "$argc [llength $argv]"

@@ -1,0 +1,2 @@
+puts [set x 1]
+set y

@@ -1,0 +1,4 @@
+proc f {} {f}
+puts [catch f m]
+puts $m
+f

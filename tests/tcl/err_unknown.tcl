@@ -1,0 +1,6 @@
+puts "before"
+proc helper {} {
+    sphre 1 2 3
+}
+helper
+puts "never"

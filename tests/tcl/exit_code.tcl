@@ -1,0 +1,3 @@
+puts start
+exit 3
+puts never

@@ -1,0 +1,3 @@
+puts start
+return
+puts never
