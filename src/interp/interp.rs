@@ -9,14 +9,20 @@ use std::rc::Rc;
 
 use indexmap::IndexMap;
 use rustc_hash::FxHashMap;
+use smallvec::SmallVec;
 
 use super::error::{Code, Exception, Loc, TclResult};
 use super::expr::{self, Expr, Operand};
-use super::parser::{Command, Parser, Part, Script, VarName, Word};
+use super::number::Num;
+use super::parser::{Command, Part, Script, VarName, Word};
 use super::value::{Rep, Value};
 
 pub type NativeFn = fn(&mut Interp, &[Value]) -> TclResult;
 pub type HostFn = Rc<dyn Fn(&mut Interp, &[Value]) -> TclResult>;
+/// A command whose arguments are all numbers: it can be called without
+/// building values at all (the fast path for long generated meshes).
+/// It returns a number or nothing (the empty string).
+pub type NumericFn = Rc<dyn Fn(&mut Interp, &[Num]) -> Result<Option<Num>, Exception>>;
 
 /// Nested command invocations allowed before "too many nested evaluations".
 pub const DEFAULT_MAX_DEPTH: usize = 1000;
@@ -27,6 +33,7 @@ pub const MAX_VALUE_LEN: usize = 1 << 30;
 pub(crate) enum CommandKind {
     Native(NativeFn),
     Host(HostFn),
+    Numeric(usize, Rc<str>, NumericFn),
     Proc(Rc<Proc>),
 }
 
@@ -63,11 +70,13 @@ pub(crate) struct Frame {
 }
 
 pub struct Interp {
-    commands: FxHashMap<String, CommandKind>,
+    pub(crate) commands: FxHashMap<String, CommandKind>,
+    /// Bumped on every change to `commands`, so lookups can be cached.
+    pub(crate) cmd_epoch: u64,
     pub(crate) frames: Vec<Frame>,
     /// Index into `frames` of the frame whose variables are visible now.
     pub(crate) cur: usize,
-    depth: usize,
+    pub(crate) depth: usize,
     pub max_depth: usize,
     pub(crate) host: Box<dyn Host>,
     rand_seed: i64,
@@ -101,6 +110,7 @@ impl Interp {
     pub fn new(host: Box<dyn Host>) -> Interp {
         let mut interp = Interp {
             commands: FxHashMap::default(),
+            cmd_epoch: 0,
             frames: vec![Frame {
                 vars: FxHashMap::default(),
                 level: 0,
@@ -122,8 +132,13 @@ impl Interp {
 
     // -- Commands ----------------------------------------------------------
 
+    fn set_command(&mut self, name: String, cmd: CommandKind) {
+        self.cmd_epoch += 1;
+        self.commands.insert(name, cmd);
+    }
+
     pub fn register(&mut self, name: &str, f: NativeFn, usage: &str, summary: &str) {
-        self.commands.insert(name.to_string(), CommandKind::Native(f));
+        self.set_command(name.to_string(), CommandKind::Native(f));
         self.set_help(name, usage, summary);
     }
 
@@ -134,7 +149,21 @@ impl Interp {
         summary: &str,
         f: impl Fn(&mut Interp, &[Value]) -> TclResult + 'static,
     ) {
-        self.commands.insert(name.to_string(), CommandKind::Host(Rc::new(f)));
+        self.set_command(name.to_string(), CommandKind::Host(Rc::new(f)));
+        self.set_help(name, usage, summary);
+    }
+
+    /// Registers a command that takes exactly `arity` numbers.
+    pub fn register_numeric(
+        &mut self,
+        name: &str,
+        arity: usize,
+        usage: &str,
+        summary: &str,
+        f: impl Fn(&mut Interp, &[Num]) -> Result<Option<Num>, Exception> + 'static,
+    ) {
+        let usage_full: Rc<str> = Rc::from(format!("{name} {usage}").trim_end());
+        self.set_command(name.to_string(), CommandKind::Numeric(arity, usage_full, Rc::new(f)));
         self.set_help(name, usage, summary);
     }
 
@@ -181,10 +210,11 @@ impl Interp {
 
     pub(crate) fn define_proc(&mut self, p: Proc) {
         let name = p.name.clone();
-        self.commands.insert(name, CommandKind::Proc(Rc::new(p)));
+        self.set_command(name, CommandKind::Proc(Rc::new(p)));
     }
 
     pub(crate) fn rename_command(&mut self, old: &str, new: &str) -> Result<(), Exception> {
+        self.cmd_epoch += 1;
         let cmd = self.commands.remove(old).ok_or_else(|| {
             Exception::error(format!("can't rename \"{old}\": command doesn't exist"))
         })?;
@@ -288,52 +318,8 @@ impl Interp {
     /// Runs a whole source file (or stdin) command by command, without
     /// building the whole parse tree first: a mesh of a million commands
     /// streams through in constant memory.
-    pub fn eval_source(&mut self, src: &str, file: Option<&str>) -> TclResult {
-        let file: Option<Rc<str>> = file.map(Rc::from);
-        let saved_file = std::mem::replace(&mut self.script_file, file.clone());
-        let r = self.eval_stream(src, &file);
-        self.script_file = saved_file;
-        match r {
-            Err(mut e) if e.code == Code::Error => {
-                if let Some(f) = &file {
-                    e.trace.push_str(&format!("\n    (file \"{f}\" line {})", e.script_line));
-                }
-                Err(e)
-            }
-            Err(e) if e.code == Code::Return => Ok(e.value),
-            r => r,
-        }
-    }
-
-    fn eval_stream(&mut self, src: &str, file: &Option<Rc<str>>) -> TclResult {
-        let mut p = Parser::new(Rc::from(src), file.clone(), 1);
-        let mut result = Value::empty();
-        while let Some(r) = p.next_command() {
-            drop(std::mem::take(&mut result));
-            match r {
-                Ok(cmd) => match self.eval_command(&cmd) {
-                    Ok(v) => result = v,
-                    Err(mut e) => {
-                        if e.code == Code::Error {
-                            let text = &p.src()[cmd.start as usize..cmd.end as usize];
-                            add_trace(&mut e, text, cmd.line, 1, file);
-                        }
-                        return Err(e);
-                    }
-                },
-                Err(pe) => {
-                    let text = &p.src()[pe.cmd_start as usize..(pe.pos as usize).min(src.len())];
-                    let mut e = Exception::error(pe.msg.clone());
-                    add_trace(&mut e, text, pe.line, 1, file);
-                    return Err(e);
-                }
-            }
-        }
-        Ok(result)
-    }
-
-    fn eval_command(&mut self, cmd: &Command) -> TclResult {
-        let mut argv = Vec::with_capacity(cmd.words.len());
+    pub(crate) fn eval_command(&mut self, cmd: &Command) -> TclResult {
+        let mut argv: SmallVec<[Value; 8]> = SmallVec::new();
         for w in &cmd.words {
             match w {
                 Word::Expand(inner) => {
@@ -379,7 +365,7 @@ impl Interp {
         r
     }
 
-    fn enter(&mut self) -> Result<(), Exception> {
+    pub(crate) fn enter(&mut self) -> Result<(), Exception> {
         if self.depth >= self.max_depth {
             return Err(Exception::error("too many nested evaluations (infinite loop?)"));
         }
@@ -402,6 +388,7 @@ impl Interp {
         let r = match cmd {
             CommandKind::Native(f) => f(self, argv),
             CommandKind::Host(f) => f(self, argv),
+            CommandKind::Numeric(arity, usage, f) => call_numeric(self, arity, &usage, &f, argv),
             CommandKind::Proc(p) => self.call_proc(&p, argv),
         };
         self.depth -= 1;
@@ -757,6 +744,28 @@ impl Interp {
     }
 }
 
+fn call_numeric(
+    interp: &mut Interp,
+    arity: usize,
+    usage: &str,
+    f: &NumericFn,
+    argv: &[Value],
+) -> TclResult {
+    if argv.len() != arity + 1 {
+        return Err(Exception::wrong_args(usage));
+    }
+    let mut nums: SmallVec<[Num; 8]> = SmallVec::new();
+    for v in &argv[1..] {
+        nums.push(v.as_num().ok_or_else(|| {
+            Exception::error(format!("expected number but got \"{}\"", v.as_str()))
+        })?);
+    }
+    Ok(match f(interp, &nums)? {
+        Some(n) => Value::from_num(n),
+        None => Value::empty(),
+    })
+}
+
 fn too_long() -> Exception {
     Exception::error(format!(
         "string too long: rayshell values are limited to {MAX_VALUE_LEN} bytes"
@@ -767,7 +776,13 @@ pub(crate) fn check_len(n: usize) -> Result<(), Exception> {
     if n > MAX_VALUE_LEN { Err(too_long()) } else { Ok(()) }
 }
 
-fn add_trace(e: &mut Exception, text: &str, line: u32, first_line: u32, file: &Option<Rc<str>>) {
+pub(crate) fn add_trace(
+    e: &mut Exception,
+    text: &str,
+    line: u32,
+    first_line: u32,
+    file: &Option<Rc<str>>,
+) {
     let text = truncate_cmd(text);
     if e.traced {
         e.trace.push_str("\n    invoked from within\n\"");

@@ -13,12 +13,13 @@ mod interp;
 mod list;
 mod number;
 mod parser;
+mod stream;
 mod value;
 
 pub use error::{Code, Exception, Loc, TclResult};
 pub use interp::{Host, Interp, MAX_VALUE_LEN};
 pub use list::{format_list, quote};
-pub use number::{format_double, parse_double};
+pub use number::{Num, format_double, parse_double};
 pub use parser::is_complete;
 pub use value::Value;
 

@@ -27,6 +27,13 @@ impl Num {
 }
 
 fn trim_tcl(s: &str) -> &str {
+    let b = s.as_bytes();
+    let space = |c: u8| matches!(c, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c);
+    if let (Some(&f), Some(&l)) = (b.first(), b.last()) {
+        if !space(f) && !space(l) {
+            return s;
+        }
+    }
     s.trim_matches(|c: char| matches!(c, ' ' | '\t' | '\n' | '\r' | '\x0b' | '\x0c'))
 }
 
@@ -69,16 +76,23 @@ pub fn parse_double(s: &str) -> Option<f64> {
     if let Some(i) = parse_int(s) {
         return Some(i as f64);
     }
+    parse_float(s)
+}
+
+/// A double that is not written as an integer.
+fn parse_float(s: &str) -> Option<f64> {
     let t = trim_tcl(s);
     let b = t.as_bytes();
     let body = t.strip_prefix(['+', '-']).unwrap_or(t);
     if body.len() > 1 && body.starts_with('0') && body.bytes().all(|c| c.is_ascii_digit()) {
         return None; // An invalid octal integer such as 08 is not a double either.
     }
-    let lower = body.to_ascii_lowercase();
-    if matches!(lower.as_str(), "inf" | "infinity" | "nan") {
-        let v: f64 = t.parse().ok()?;
-        return Some(v);
+    if body.as_bytes().first().is_some_and(|c| c.is_ascii_alphabetic()) {
+        let lower = body.to_ascii_lowercase();
+        if matches!(lower.as_str(), "inf" | "infinity" | "nan") {
+            return t.parse().ok();
+        }
+        return None;
     }
     // Rust accepts a few spellings Tcl does not; check the shape first.
     if b.is_empty()
@@ -91,11 +105,85 @@ pub fn parse_double(s: &str) -> Option<f64> {
 }
 
 /// A number of either kind: integers stay integers.
+/// Powers of ten that are exact in an f64.
+pub(crate) const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// Clinger's fast path: `[-]digits[.digits]` with at most 15 significant
+/// digits is exactly `mantissa / 10^k`, correctly rounded. Anything else
+/// (exponents, long mantissas, other syntaxes) returns `None`.
+fn parse_simple_decimal(b: &[u8]) -> Option<Num> {
+    let (neg, digits) = match b.first()? {
+        b'-' => (true, &b[1..]),
+        b'+' => (false, &b[1..]),
+        _ => (false, b),
+    };
+    let mut m: u64 = 0;
+    let mut n_digits = 0;
+    let mut frac: Option<usize> = None;
+    for (i, &c) in digits.iter().enumerate() {
+        match c {
+            b'0'..=b'9' => {
+                m = m * 10 + (c - b'0') as u64;
+                n_digits += 1;
+                if n_digits > 15 {
+                    return None;
+                }
+            }
+            b'.' if frac.is_none() => frac = Some(i),
+            _ => return None,
+        }
+    }
+    if n_digits == 0 {
+        return None;
+    }
+    match frac {
+        None => {
+            // Leading zeros mean octal in Tcl: not this path.
+            if digits.len() > 1 && digits[0] == b'0' {
+                return None;
+            }
+            let v = m as i64;
+            Some(Num::Int(if neg { -v } else { v }))
+        }
+        Some(dot) => {
+            let k = digits.len() - dot - 1;
+            let v = m as f64 / POW10[k];
+            Some(Num::Double(if neg { -v } else { v }))
+        }
+    }
+}
+
 pub fn parse_num(s: &str) -> Option<Num> {
+    if let Some(n) = parse_simple_decimal(s.as_bytes()) {
+        return Some(n);
+    }
+    // Fast path: a plain decimal integer or decimal fraction.
+    let b = s.as_bytes();
+    let body = match b.first() {
+        Some(b'-' | b'+') => &b[1..],
+        _ => b,
+    };
+    let decimal = match body {
+        [b'1'..=b'9', ..] => true,
+        [b'0', b'.', ..] | [b'0'] => true,
+        _ => false,
+    };
+    if decimal {
+        if body.iter().all(u8::is_ascii_digit) {
+            return s.parse::<i64>().ok().map(Num::Int);
+        }
+        if body.iter().all(|c| c.is_ascii_digit() || matches!(c, b'.' | b'e' | b'E' | b'+' | b'-'))
+        {
+            return s.parse::<f64>().ok().map(Num::Double);
+        }
+    }
     if let Some(i) = parse_int(s) {
         return Some(Num::Int(i));
     }
-    parse_double(s).map(Num::Double)
+    parse_float(s).map(Num::Double)
 }
 
 pub fn parse_bool(s: &str) -> Option<bool> {
@@ -222,5 +310,13 @@ mod tests {
         assert_eq!(parse_double(".5"), Some(0.5));
         assert_eq!(parse_double("abc"), None);
         assert_eq!(parse_double("1_0"), None);
+        assert_eq!(parse_num("0.1"), Some(Num::Double(0.1)));
+        assert_eq!(parse_num("-12.5"), Some(Num::Double(-12.5)));
+        assert_eq!(parse_num("123"), Some(Num::Int(123)));
+        assert_eq!(parse_num("5."), Some(Num::Double(5.0)));
+        assert_eq!(parse_num(".5"), Some(Num::Double(0.5)));
+        assert_eq!(parse_num("010"), Some(Num::Int(8)));
+        assert_eq!(parse_num("."), None);
+        assert_eq!(parse_num("0.30000000000000004"), Some(Num::Double(0.30000000000000004)));
     }
 }

@@ -10,6 +10,7 @@
 
 use std::rc::Rc;
 
+use super::number::{Num, POW10};
 use super::value::Value;
 
 /// Nested `[...]` deeper than this is refused rather than overflowing.
@@ -111,8 +112,32 @@ const SPECIAL: [bool; 256] = {
     t
 };
 
+/// Bytes that end a word at the top level: blanks, newline, `;`.
+const WORD_END: [bool; 256] = {
+    let mut t = [false; 256];
+    let ends = b" \t\n\r\x0b\x0c;";
+    let mut i = 0;
+    while i < ends.len() {
+        t[ends[i] as usize] = true;
+        i += 1;
+    }
+    t
+};
+
+/// Blanks between words (not newline).
+const BLANK: [bool; 256] = {
+    let mut t = [false; 256];
+    let blanks = b" \t\r\x0b\x0c";
+    let mut i = 0;
+    while i < blanks.len() {
+        t[blanks[i] as usize] = true;
+        i += 1;
+    }
+    t
+};
+
 fn is_blank(c: u8) -> bool {
-    matches!(c, b' ' | b'\t' | b'\r' | 0x0b | 0x0c)
+    BLANK[c as usize]
 }
 
 fn hex_val(c: u8) -> Option<u32> {
@@ -217,6 +242,158 @@ impl Parts {
     }
 }
 
+/// A plain word of a fast-path command: its span, and its value when it is
+/// a simple decimal number.
+#[derive(Clone, Copy)]
+pub(crate) struct PlainWord {
+    pub(crate) start: u32,
+    pub(crate) end: u32,
+    pub(crate) num: Option<Num>,
+}
+
+pub(crate) enum Plain {
+    Cmd { line: u32, start: u32, end: u32 },
+    NotPlain,
+    End,
+}
+
+/// Skips white space, command separators and comments from `pos`.
+fn skip_separators(b: &[u8], mut pos: usize) -> usize {
+    let len = b.len();
+    loop {
+        while pos < len {
+            let c = b[pos];
+            if is_blank(c) || c == b'\n' || c == b';' {
+                pos += 1;
+            } else if c == b'\\' && pos + 1 < len && b[pos + 1] == b'\n' {
+                pos += 2;
+            } else {
+                break;
+            }
+        }
+        if pos < len && b[pos] == b'#' {
+            while pos < len && b[pos] != b'\n' {
+                if b[pos] == b'\\' {
+                    pos += 1;
+                }
+                pos += 1;
+            }
+            pos = pos.min(len);
+            continue;
+        }
+        return pos;
+    }
+}
+
+/// The scanner for plain commands, over bytes only: it makes no values, so
+/// it can run on another thread ahead of evaluation.
+pub(crate) struct PlainScanner<'a> {
+    pub(crate) b: &'a [u8],
+    pub(crate) pos: usize,
+    ck_pos: usize,
+    ck_line: u32,
+}
+
+impl<'a> PlainScanner<'a> {
+    pub(crate) fn new(b: &'a [u8], first_line: u32) -> PlainScanner<'a> {
+        PlainScanner { b, pos: 0, ck_pos: 0, ck_line: first_line }
+    }
+
+    pub(crate) fn line_at(&mut self, pos: usize) -> u32 {
+        if pos >= self.ck_pos {
+            self.ck_line += self.b[self.ck_pos..pos].iter().filter(|&&c| c == b'\n').count() as u32;
+        } else {
+            self.ck_line -= self.b[pos..self.ck_pos].iter().filter(|&&c| c == b'\n').count() as u32;
+        }
+        self.ck_pos = pos;
+        self.ck_line
+    }
+
+    /// The next command if every word in it is plain (no quoting or
+    /// substitution), as byte spans, reading simple decimal numbers on the
+    /// way; `NotPlain` leaves the position at the command so a full parser
+    /// can take over.
+    pub(crate) fn next(&mut self, spans: &mut smallvec::SmallVec<[PlainWord; 8]>) -> Plain {
+        spans.clear();
+        self.pos = skip_separators(self.b, self.pos);
+        let b = self.b;
+        let len = b.len();
+        if self.pos >= len {
+            return Plain::End;
+        }
+        let start = self.pos;
+        let mut p = start;
+        loop {
+            while p < len && is_blank(b[p]) {
+                p += 1;
+            }
+            if p >= len || b[p] == b'\n' || b[p] == b';' {
+                break;
+            }
+            let ws = p;
+            if b[p] == b'{' || b[p] == b'"' {
+                return Plain::NotPlain;
+            }
+            // Try the word as a simple decimal number first (the common case
+            // in meshes); see `number::parse_simple_decimal` for the rules.
+            let neg = b[p] == b'-';
+            let digits_start = if neg || b[p] == b'+' { p + 1 } else { p };
+            let mut q = digits_start;
+            let mut m: u64 = 0;
+            while q < len && b[q].is_ascii_digit() {
+                m = m.wrapping_mul(10).wrapping_add((b[q] - b'0') as u64);
+                q += 1;
+            }
+            let int_end = q;
+            let mut frac_digits = None;
+            if q < len && b[q] == b'.' {
+                q += 1;
+                let frac_start = q;
+                while q < len && b[q].is_ascii_digit() {
+                    m = m.wrapping_mul(10).wrapping_add((b[q] - b'0') as u64);
+                    q += 1;
+                }
+                frac_digits = Some(q - frac_start);
+            }
+            let n_digits = q - digits_start - frac_digits.is_some() as usize;
+            let num = if (q >= len || WORD_END[b[q] as usize]) && (1..=15).contains(&n_digits) {
+                p = q;
+                match frac_digits {
+                    None if int_end - digits_start > 1 && b[digits_start] == b'0' => None,
+                    None => Some(Num::Int(if neg { -(m as i64) } else { m as i64 })),
+                    Some(k) => {
+                        let v = m as f64 / POW10[k];
+                        Some(Num::Double(if neg { -v } else { v }))
+                    }
+                }
+            } else {
+                while p < len && !SPECIAL[b[p] as usize] {
+                    p += 1;
+                }
+                None
+            };
+            if p < len && !WORD_END[b[p] as usize] {
+                return Plain::NotPlain;
+            }
+            spans.push(PlainWord { start: ws as u32, end: p as u32, num });
+        }
+        let mut end = p;
+        while end > start && is_blank(b[end - 1]) {
+            end -= 1;
+        }
+        let ends_line = p < len && b[p] == b'\n';
+        self.pos = if p < len { p + 1 } else { p };
+        let line = self.line_at(start);
+        if ends_line {
+            // The command holds no newline but its terminator: move the line
+            // checkpoint past it so the next command counts nothing again.
+            self.ck_pos = self.pos;
+            self.ck_line = line + 1;
+        }
+        Plain::Cmd { line, start: start as u32, end: end as u32 }
+    }
+}
+
 pub struct Parser {
     src: Rc<str>,
     pos: usize,
@@ -286,34 +463,31 @@ impl Parser {
         self.command(false)
     }
 
+    /// Skips separators and comments; false at the end of the (nested) script.
+    fn skip_to_command(&mut self, nested: bool) -> bool {
+        self.pos = skip_separators(self.src.as_bytes(), self.pos);
+        !(self.pos >= self.src.len() || (nested && self.src.as_bytes()[self.pos] == b']'))
+    }
+
+    /// See `PlainScanner::next`.
+    pub(crate) fn next_plain(&mut self, spans: &mut smallvec::SmallVec<[PlainWord; 8]>) -> Plain {
+        let src = self.src.clone();
+        let mut sc = PlainScanner {
+            b: src.as_bytes(),
+            pos: self.pos,
+            ck_pos: self.ck_pos,
+            ck_line: self.ck_line,
+        };
+        let r = sc.next(spans);
+        self.pos = sc.pos;
+        self.ck_pos = sc.ck_pos;
+        self.ck_line = sc.ck_line;
+        r
+    }
+
     fn command(&mut self, nested: bool) -> Option<Result<Command, ParseError>> {
         let len = self.src.len();
-        // Skip separators and comments.
-        loop {
-            let b = self.src.as_bytes();
-            while self.pos < len {
-                let c = b[self.pos];
-                if is_blank(c) || c == b'\n' || c == b';' {
-                    self.pos += 1;
-                } else if c == b'\\' && self.pos + 1 < len && b[self.pos + 1] == b'\n' {
-                    self.pos += 2;
-                } else {
-                    break;
-                }
-            }
-            if self.pos < len && b[self.pos] == b'#' {
-                while self.pos < len && b[self.pos] != b'\n' {
-                    if b[self.pos] == b'\\' {
-                        self.pos += 1;
-                    }
-                    self.pos += 1;
-                }
-                self.pos = self.pos.min(len);
-                continue;
-            }
-            break;
-        }
-        if self.pos >= len || (nested && self.src.as_bytes()[self.pos] == b']') {
+        if !self.skip_to_command(nested) {
             return None;
         }
         let start = self.pos;

@@ -9,6 +9,8 @@
 use std::cell::{OnceCell, RefCell};
 use std::rc::Rc;
 
+use compact_str::CompactString;
+
 use super::error::Exception;
 use super::expr::Expr;
 use super::list;
@@ -19,7 +21,9 @@ use super::parser::Script;
 pub struct Value(Rc<Inner>);
 
 struct Inner {
-    string: OnceCell<String>,
+    /// Short strings (most words: numbers, names) live inline: one
+    /// allocation per value instead of two.
+    string: OnceCell<CompactString>,
     rep: RefCell<Rep>,
 }
 
@@ -48,7 +52,10 @@ impl Value {
     }
 
     pub fn from_string(s: String) -> Value {
-        Value(Rc::new(Inner { string: OnceCell::from(s), rep: RefCell::new(Rep::None) }))
+        Value(Rc::new(Inner {
+            string: OnceCell::from(CompactString::from(s)),
+            rep: RefCell::new(Rep::None),
+        }))
     }
 
     pub fn from_int(i: i64) -> Value {
@@ -79,7 +86,7 @@ impl Value {
 
     pub(crate) fn with_origin(s: String, file: Option<Rc<str>>, line: u32) -> Value {
         Value(Rc::new(Inner {
-            string: OnceCell::from(s),
+            string: OnceCell::from(CompactString::from(s)),
             rep: RefCell::new(Rep::Origin(file, line)),
         }))
     }
@@ -87,10 +94,10 @@ impl Value {
     /// The string form, generated from the internal form on first use.
     pub fn as_str(&self) -> &str {
         self.0.string.get_or_init(|| match &*self.0.rep.borrow() {
-            Rep::Int(i) => i.to_string(),
-            Rep::Double(d) => number::format_double(*d),
-            Rep::List(items) => list::format_list(items),
-            _ => String::new(),
+            Rep::Int(i) => CompactString::from(itoa::Buffer::new().format(*i)),
+            Rep::Double(d) => CompactString::from(number::format_double(*d)),
+            Rep::List(items) => CompactString::from(list::format_list(items)),
+            _ => CompactString::default(),
         })
     }
 
@@ -202,6 +209,25 @@ impl Value {
         *self = Value::from_string(s);
     }
 
+    /// Reuses this value's allocation for a new plain string when nothing
+    /// else holds it (the fast path for long generated scripts).
+    pub(crate) fn recycle(&mut self, s: &str) -> bool {
+        match Rc::get_mut(&mut self.0) {
+            Some(inner) => {
+                match inner.string.get_mut() {
+                    Some(st) => {
+                        st.clear();
+                        st.push_str(s);
+                    }
+                    None => inner.string = OnceCell::from(CompactString::new(s)),
+                }
+                *inner.rep.get_mut() = Rep::None;
+                true
+            }
+            None => false,
+        }
+    }
+
     pub fn ptr_eq(&self, other: &Value) -> bool {
         Rc::ptr_eq(&self.0, &other.0)
     }
@@ -215,7 +241,10 @@ impl Default for Value {
 
 impl From<&str> for Value {
     fn from(s: &str) -> Value {
-        Value::from_string(s.to_string())
+        Value(Rc::new(Inner {
+            string: OnceCell::from(CompactString::new(s)),
+            rep: RefCell::new(Rep::None),
+        }))
     }
 }
 

@@ -6,10 +6,11 @@
 //! `exit N` in a script exits with N.
 
 mod args;
+mod commands;
 mod repl;
 
 use std::cell::RefCell;
-use std::io::{IsTerminal, Read, Write};
+use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
 use std::rc::Rc;
 
@@ -101,6 +102,7 @@ pub fn read_text(path: &str) -> std::io::Result<String> {
 pub fn new_interp(host: Box<dyn Host>) -> Interp {
     let mut interp = Interp::new(host);
     register_shell_commands(&mut interp);
+    commands::register(&mut interp, Rc::new(RefCell::new(crate::scene::Builder::new())));
     interp
 }
 
@@ -213,26 +215,21 @@ fn run(cli: Cli) -> i32 {
         Some(path) => {
             let path_str = path.to_string_lossy().into_owned();
             set_argv(&mut interp, &path_str, &cli.args);
-            let src = match read_text(&path_str) {
-                Ok(s) => s,
+            let mut f = match std::fs::File::open(path) {
+                Ok(f) => f,
                 Err(e) => {
                     eprintln!("raytrace: couldn't read file \"{path_str}\": {}", io_reason(&e));
                     return 1;
                 }
             };
-            run_main_script(&mut interp, &src, Some(&path_str))
+            let r = interp.eval_reader(Some(&path_str), &mut f);
+            finish(&mut interp, r)
         }
         None if std::io::stdin().is_terminal() => repl::run(&mut interp),
         None => {
             set_argv(&mut interp, "raytrace", &cli.args);
-            let mut src = String::new();
-            let mut bytes = Vec::new();
-            if let Err(e) = std::io::stdin().read_to_end(&mut bytes) {
-                eprintln!("raytrace: error reading stdin: {e}");
-                return 1;
-            }
-            src.push_str(&String::from_utf8_lossy(&bytes));
-            run_main_script(&mut interp, &src, Some("stdin"))
+            let r = interp.eval_reader(Some("stdin"), &mut std::io::stdin());
+            finish(&mut interp, r)
         }
     }
 }

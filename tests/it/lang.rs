@@ -52,7 +52,13 @@ fn scripts_match_tclsh() {
         // Neither may crash.
         assert_ne!(got.status.code(), Some(101), "{name} panicked");
     }
-    assert!(failures.is_empty(), "{} of {} scripts differ:\n{}", failures.len(), files.len(), failures.join("\n\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {} scripts differ:\n{}",
+        failures.len(),
+        files.len(),
+        failures.join("\n\n")
+    );
 }
 
 #[test]
@@ -70,4 +76,50 @@ fn errors_name_file_and_line() {
 
     let out = raytrace().arg("tests/tcl/err_brace.tcl").current_dir(root()).output().unwrap();
     assert!(text(&out.stderr).starts_with("tests/tcl/err_brace.tcl:2: missing close-brace"));
+}
+
+/// A script much larger than the streaming window, with commands that
+/// straddle window boundaries (multi-line braces, backslash-newlines,
+/// quotes), must run exactly as the same text given with `-c`, and as tclsh.
+#[test]
+fn streaming_windows_are_invisible() {
+    let mut src = String::new();
+    for i in 0..6000 {
+        src.push_str(&format!("set v{i} [expr {{{i} * 2}}]\n"));
+        if i % 700 == 0 {
+            src.push_str("proc p {} {\n");
+            for j in 0..3000 {
+                src.push_str(&format!("    set a{j} {j}\n"));
+            }
+            src.push_str("    return $a2999\n}\nputs [p]\n");
+            src.push_str("puts \"a quoted\nstring over\nlines\"\n");
+            src.push_str("puts [list a \\\n  b \\\n  c]\n");
+        }
+    }
+    src.push_str("puts $v5999\nputs [llength [info vars v*]]\n");
+    let dir = std::env::temp_dir().join(format!("rayshell-stream-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("big.tcl");
+    std::fs::write(&path, &src).unwrap();
+    let from_file = raytrace().arg(&path).output().unwrap();
+    // `source` reads the whole file and runs it without windows.
+    let from_string =
+        raytrace().arg("-c").arg(format!("source {{{}}}", path.display())).output().unwrap();
+    assert_eq!(from_file.status.code(), Some(0), "{}", text(&from_file.stderr));
+    assert_eq!(text(&from_file.stdout), text(&from_string.stdout));
+    assert!(text(&from_file.stdout).ends_with("11998\n6000\n"));
+    if tclsh_available() {
+        let want = Command::new("tclsh").arg(&path).output().unwrap();
+        assert_eq!(text(&from_file.stdout), text(&want.stdout));
+    }
+    // An error deep in the file names the right line.
+    std::fs::write(&path, format!("{src}nosuchcmd\n")).unwrap();
+    let out = raytrace().arg(&path).output().unwrap();
+    let line = src.lines().count() + 1;
+    assert!(
+        text(&out.stderr).contains(&format!("big.tcl:{line}: invalid command name")),
+        "{}",
+        text(&out.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -374,9 +374,7 @@ fn string_is(a: &[Value]) -> TclResult {
         "alpha" => all(char::is_alphabetic),
         "ascii" => s.is_ascii(),
         "boolean" => number::parse_bool(s).is_some() || matches!(number::parse_int(s), Some(0 | 1)),
-        "true" => {
-            number::parse_bool(s) == Some(true) || number::parse_int(s) == Some(1)
-        }
+        "true" => number::parse_bool(s) == Some(true) || number::parse_int(s) == Some(1),
         "false" => number::parse_bool(s) == Some(false) || number::parse_int(s) == Some(0),
         "control" => all(char::is_control),
         "digit" => all(|c| c.is_ascii_digit()),

@@ -1,0 +1,386 @@
+//! Streaming evaluation of whole scripts: a file is read in windows that
+//! end at an unescaped newline, commands run as soon as they are parsed, and
+//! memory stays bounded by the longest command, not the file.
+//!
+//! Long generated scripts (a mesh is a million `vertex`/`tri` lines) take a
+//! fast path: a scanner thread splits the next window into plain commands
+//! (no quoting or substitution) and reads their numbers while this thread
+//! runs the previous window. A command that is not plain is parsed and run
+//! here in full, in order; the scanner never evaluates anything.
+
+use std::io::Read;
+use std::rc::Rc;
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
+
+use smallvec::SmallVec;
+
+use super::error::{Code, Exception, TclResult};
+use super::interp::{CommandKind, Interp, NumericFn, add_trace};
+use super::number::{self, Num};
+use super::parser::{Parser, Plain, PlainScanner, PlainWord};
+use super::value::Value;
+
+/// Bytes read per window (a window grows to hold a longer command).
+const WINDOW: usize = 1 << 16;
+
+/// What the streaming evaluator carries from one window to the next.
+#[derive(Default)]
+struct StreamState {
+    result: Value,
+    /// The result of a trailing numeric command, not yet made a value.
+    last_num: Option<Option<Num>>,
+    spans: SmallVec<[PlainWord; 8]>,
+    argv: SmallVec<[Value; 8]>,
+    /// Values whose allocations the fast path reuses.
+    pool: Vec<Value>,
+    cache: [Option<CachedNumeric>; 2],
+}
+
+/// A numeric command found by name, valid while `Interp::cmd_epoch` holds.
+struct CachedNumeric {
+    epoch: u64,
+    name: Box<str>,
+    arity: usize,
+    f: NumericFn,
+}
+
+impl StreamState {
+    fn into_result(self) -> Value {
+        match self.last_num {
+            Some(Some(n)) => Value::from_num(n),
+            Some(None) => Value::empty(),
+            None => self.result,
+        }
+    }
+}
+
+/// The end of the last line in `buf` whose newline is not escaped by a
+/// backslash (an odd run of backslashes before it).
+fn safe_cut(buf: &[u8]) -> Option<usize> {
+    let mut end = buf.len();
+    while let Some(nl) = buf[..end].iter().rposition(|&c| c == b'\n') {
+        let backslashes = buf[..nl].iter().rev().take_while(|&&c| c == b'\\').count();
+        if backslashes % 2 == 0 {
+            return Some(nl + 1);
+        }
+        end = nl;
+    }
+    None
+}
+
+/// One window of source with its plain commands already scanned.
+struct Batch {
+    window: Arc<str>,
+    /// (line, start, end, first word, word count) per plain command.
+    cmds: Vec<(u32, u32, u32, u32, u32)>,
+    words: Vec<PlainWord>,
+    /// Where the first command that is not plain starts, and its line.
+    stop: Option<(usize, u32)>,
+    last: bool,
+}
+
+/// The scanner thread: reads windows, scans their plain commands.
+fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<std::io::Result<Batch>>) {
+    let mut buf: Vec<u8> = Vec::new();
+    let mut eof = false;
+    let mut line = 1u32;
+    let mut spans = SmallVec::new();
+    loop {
+        if !eof {
+            let want = WINDOW.max(buf.len());
+            let n0 = buf.len();
+            match reader.take(want as u64).read_to_end(&mut buf) {
+                Ok(_) => eof = buf.len() == n0,
+                Err(e) => {
+                    let _ = tx.send(Err(e));
+                    return;
+                }
+            }
+        }
+        let cut = if eof {
+            buf.len()
+        } else {
+            match safe_cut(&buf) {
+                Some(c) => c,
+                None => continue,
+            }
+        };
+        if std::str::from_utf8(&buf[..cut]).is_err() {
+            // Replace bad bytes (binary garbage) so the window is text.
+            let fixed = String::from_utf8_lossy(&buf[..cut]).into_owned();
+            buf.splice(..cut, fixed.into_bytes());
+            continue;
+        }
+        let window: Arc<str> = Arc::from(std::str::from_utf8(&buf[..cut]).expect("checked above"));
+        let mut batch = Batch {
+            window: window.clone(),
+            cmds: Vec::new(),
+            words: Vec::new(),
+            stop: None,
+            last: eof,
+        };
+        let mut sc = PlainScanner::new(window.as_bytes(), line);
+        loop {
+            match sc.next(&mut spans) {
+                Plain::End => break,
+                Plain::NotPlain => {
+                    let pos = sc.pos;
+                    batch.stop = Some((pos, sc.line_at(pos)));
+                    break;
+                }
+                Plain::Cmd { line, start, end } => {
+                    if spans.is_empty() {
+                        continue;
+                    }
+                    let first = batch.words.len() as u32;
+                    batch.words.extend_from_slice(&spans);
+                    batch.cmds.push((line, start, end, first, spans.len() as u32));
+                }
+            }
+        }
+        line = sc.line_at(cut);
+        buf.drain(..cut);
+        if tx.send(Ok(batch)).is_err() || eof {
+            return;
+        }
+    }
+}
+
+impl Interp {
+    /// Runs a whole script held in a string (the REPL, `-c`, `source`).
+    pub fn eval_source(&mut self, src: &str, file: Option<&str>) -> TclResult {
+        self.with_script_file(file, |interp, file| {
+            let mut st = StreamState::default();
+            let mut p = Parser::new(Rc::from(src), file.clone(), 1);
+            interp.run_window(&mut p, &mut st, file, false)?;
+            Ok(st.into_result())
+        })
+    }
+
+    /// Runs a script read from `reader` (a file, stdin), streaming.
+    pub fn eval_reader(&mut self, file: Option<&str>, reader: &mut (dyn Read + Send)) -> TclResult {
+        self.with_script_file(file, |interp, file| {
+            std::thread::scope(|scope| {
+                let (tx, rx) = sync_channel(2);
+                scope.spawn(move || scan_windows(reader, tx));
+                let r = interp.run_batches(&rx, file);
+                // Dropping the receiver stops the scanner before the scope joins.
+                drop(rx);
+                r
+            })
+        })
+    }
+
+    fn with_script_file(
+        &mut self,
+        file: Option<&str>,
+        f: impl FnOnce(&mut Interp, &Option<Rc<str>>) -> TclResult,
+    ) -> TclResult {
+        let file: Option<Rc<str>> = file.map(Rc::from);
+        let saved_file = std::mem::replace(&mut self.script_file, file.clone());
+        let r = f(self, &file);
+        self.script_file = saved_file;
+        match r {
+            Err(mut e) if e.code == Code::Error => {
+                if let Some(f) = &file {
+                    e.trace.push_str(&format!("\n    (file \"{f}\" line {})", e.script_line));
+                }
+                Err(e)
+            }
+            Err(e) if e.code == Code::Return => Ok(e.value),
+            r => r,
+        }
+    }
+
+    fn run_batches(
+        &mut self,
+        rx: &Receiver<std::io::Result<Batch>>,
+        file: &Option<Rc<str>>,
+    ) -> TclResult {
+        let mut st = StreamState::default();
+        // A command that continues past its window: its text and line.
+        let mut carry: Option<(String, u32)> = None;
+        for batch in rx.iter() {
+            let batch = batch.map_err(|e| {
+                let name = file.as_deref().unwrap_or("stdin");
+                Exception::error(format!("error reading \"{name}\": {e}"))
+            })?;
+            let (text, line): (Rc<str>, u32) = match carry.take() {
+                Some((mut rest, line)) => {
+                    rest.push_str(&batch.window);
+                    (Rc::from(rest), line)
+                }
+                None => {
+                    let w = &batch.window;
+                    for &(line, start, end, first, n) in &batch.cmds {
+                        let spans = &batch.words[first as usize..(first + n) as usize];
+                        self.exec_plain(w, line, start, end, spans, &mut st, file)?;
+                    }
+                    match batch.stop {
+                        Some((pos, line)) => (Rc::from(&w[pos..]), line),
+                        None => continue,
+                    }
+                }
+            };
+            let mut p = Parser::new(text.clone(), file.clone(), line);
+            let used = self.run_window(&mut p, &mut st, file, !batch.last)?;
+            if used < text.len() {
+                let line = line + text[..used].bytes().filter(|&c| c == b'\n').count() as u32;
+                carry = Some((text[used..].to_string(), line));
+            }
+        }
+        Ok(st.into_result())
+    }
+
+    /// Runs one plain command: straight from its numbers when it is a
+    /// numeric command, else with values made from its words.
+    #[allow(clippy::too_many_arguments)]
+    fn exec_plain(
+        &mut self,
+        text: &str,
+        line: u32,
+        start: u32,
+        end: u32,
+        spans: &[PlainWord],
+        st: &mut StreamState,
+        file: &Option<Rc<str>>,
+    ) -> Result<(), Exception> {
+        drop(std::mem::take(&mut st.result));
+        match self.try_numeric(text, spans, &mut st.cache) {
+            Some(Ok(n)) => {
+                st.last_num = Some(n);
+                return Ok(());
+            }
+            Some(Err(mut e)) => {
+                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file);
+                return Err(e);
+            }
+            None => {}
+        }
+        for w in spans {
+            let word = &text[w.start as usize..w.end as usize];
+            let v = match st.pool.pop() {
+                Some(mut v) => {
+                    if !v.recycle(word) {
+                        v = Value::from(word);
+                    }
+                    v
+                }
+                None => Value::from(word),
+            };
+            st.argv.push(v);
+        }
+        st.last_num = None;
+        let r = self.invoke(&st.argv);
+        st.pool.extend(st.argv.drain(..));
+        st.pool.truncate(16);
+        match r {
+            Ok(v) => {
+                st.result = v;
+                Ok(())
+            }
+            Err(mut e) => {
+                if e.code == Code::Error {
+                    add_trace(&mut e, &text[start as usize..end as usize], line, 1, file);
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// Runs the commands of one window; returns how many bytes it used up
+    /// (less than the window when the last command continues past it).
+    fn run_window(
+        &mut self,
+        p: &mut Parser,
+        st: &mut StreamState,
+        file: &Option<Rc<str>>,
+        more_coming: bool,
+    ) -> Result<usize, Exception> {
+        loop {
+            drop(std::mem::take(&mut st.result));
+            // Fast path: plain words become recycled values, no parse tree.
+            match p.next_plain(&mut st.spans) {
+                Plain::End => return Ok(p.src().len()),
+                Plain::Cmd { line, start, end } => {
+                    let text = p.src().clone();
+                    let spans = std::mem::take(&mut st.spans);
+                    let r = self.exec_plain(&text, line, start, end, &spans, st, file);
+                    st.spans = spans;
+                    r?;
+                    continue;
+                }
+                Plain::NotPlain => {}
+            }
+            let cmd_pos = p.pos();
+            match p.next_command() {
+                None => return Ok(p.src().len()),
+                Some(Ok(cmd)) => {
+                    st.last_num = None;
+                    match self.eval_command(&cmd) {
+                        Ok(v) => st.result = v,
+                        Err(mut e) => {
+                            if e.code == Code::Error {
+                                let text = &p.src()[cmd.start as usize..cmd.end as usize];
+                                add_trace(&mut e, text, cmd.line, 1, file);
+                            }
+                            return Err(e);
+                        }
+                    }
+                }
+                Some(Err(pe)) if pe.incomplete && more_coming => return Ok(cmd_pos),
+                Some(Err(pe)) => {
+                    let src = p.src();
+                    let text = &src[pe.cmd_start as usize..(pe.pos as usize).min(src.len())];
+                    let mut e = Exception::error(pe.msg.clone());
+                    add_trace(&mut e, text, pe.line, 1, file);
+                    return Err(e);
+                }
+            }
+        }
+    }
+
+    /// Calls a numeric command straight from source spans when every
+    /// argument is a plain number; `None` means "take the general path".
+    fn try_numeric(
+        &mut self,
+        text: &str,
+        spans: &[PlainWord],
+        cache: &mut [Option<CachedNumeric>; 2],
+    ) -> Option<Result<Option<Num>, Exception>> {
+        let name = &text[spans[0].start as usize..spans[0].end as usize];
+        // Meshes alternate a few names: remember the last two lookups.
+        let epoch = self.cmd_epoch;
+        let hit = cache.iter().flatten().find(|c| c.epoch == epoch && &*c.name == name);
+        let (arity, f) = match hit {
+            Some(c) => (c.arity, c.f.clone()),
+            None => {
+                let Some(CommandKind::Numeric(arity, _, f)) = self.commands.get(name) else {
+                    return None;
+                };
+                let entry =
+                    CachedNumeric { epoch, name: Box::from(name), arity: *arity, f: f.clone() };
+                cache.swap(0, 1);
+                cache[0] = Some(entry);
+                (*arity, f.clone())
+            }
+        };
+        if arity != spans.len() - 1 {
+            return None;
+        }
+        let mut nums: SmallVec<[Num; 8]> = SmallVec::new();
+        for w in &spans[1..] {
+            match w.num {
+                Some(n) => nums.push(n),
+                None => nums.push(number::parse_num(&text[w.start as usize..w.end as usize])?),
+            }
+        }
+        if let Err(e) = self.enter() {
+            return Some(Err(e));
+        }
+        let r = f(self, &nums);
+        self.depth -= 1;
+        Some(r)
+    }
+}
