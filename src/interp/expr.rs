@@ -10,7 +10,7 @@ use std::rc::Rc;
 use logos::Logos;
 
 use super::error::Exception;
-use super::interp::Interp;
+use super::eval::Interp;
 use super::number::{self, Num};
 use super::parser::{Parser, Word};
 use super::value::Value;
@@ -789,7 +789,7 @@ fn to_int(d: f64) -> Result<i64, Exception> {
         return Err(Exception::error("integer value too large to represent"));
     }
     let t = d.trunc();
-    if t >= 9.223372036854775807e18 || t < -9.223372036854775808e18 {
+    if !(-9.223_372_036_854_776e18..9.223_372_036_854_776e18).contains(&t) {
         return Err(Exception::error("integer value too large to represent"));
     }
     Ok(t as i64)

@@ -290,7 +290,7 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
             other => return Err(Exception::error(format!("bad field specifier \"{other}\""))),
         };
         out.push_str(&piece);
-        if out.len() > super::interp::MAX_VALUE_LEN {
+        if out.len() > super::eval::MAX_VALUE_LEN {
             return Err(Exception::error("format result too long"));
         }
     }

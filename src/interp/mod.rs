@@ -2,14 +2,14 @@
 //! shell registers the scene commands into it and supplies I/O (`Host`).
 //!
 //! Reading order: `parser` (script -> commands -> words), `value` (the
-//! dual-ported value), `interp` (evaluation, frames, procs), `expr`,
+//! dual-ported value), `eval` (evaluation, frames, procs; `stream` for whole files), `expr`,
 //! `builtins`, then the leaves `number`, `list`, `format`, `error`.
 
 mod builtins;
 mod error;
+mod eval;
 mod expr;
 mod format;
-mod interp;
 mod list;
 mod number;
 mod parser;
@@ -17,7 +17,7 @@ mod stream;
 mod value;
 
 pub use error::{Code, Exception, Loc, TclResult};
-pub use interp::{Host, Interp, MAX_VALUE_LEN};
+pub use eval::{Host, Interp, MAX_VALUE_LEN};
 pub use list::{format_list, quote};
 pub use number::{Num, format_double, parse_double};
 pub use parser::is_complete;

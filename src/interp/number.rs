@@ -29,10 +29,11 @@ impl Num {
 fn trim_tcl(s: &str) -> &str {
     let b = s.as_bytes();
     let space = |c: u8| matches!(c, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c);
-    if let (Some(&f), Some(&l)) = (b.first(), b.last()) {
-        if !space(f) && !space(l) {
-            return s;
-        }
+    if let (Some(&f), Some(&l)) = (b.first(), b.last())
+        && !space(f)
+        && !space(l)
+    {
+        return s;
     }
     s.trim_matches(|c: char| matches!(c, ' ' | '\t' | '\n' | '\r' | '\x0b' | '\x0c'))
 }
@@ -166,11 +167,7 @@ pub fn parse_num(s: &str) -> Option<Num> {
         Some(b'-' | b'+') => &b[1..],
         _ => b,
     };
-    let decimal = match body {
-        [b'1'..=b'9', ..] => true,
-        [b'0', b'.', ..] | [b'0'] => true,
-        _ => false,
-    };
+    let decimal = matches!(body, [b'1'..=b'9', ..] | [b'0', b'.', ..] | [b'0']);
     if decimal {
         if body.iter().all(u8::is_ascii_digit) {
             return s.parse::<i64>().ok().map(Num::Int);

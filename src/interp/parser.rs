@@ -253,7 +253,7 @@ pub(crate) struct PlainWord {
 
 pub(crate) enum Plain {
     Cmd { line: u32, start: u32, end: u32 },
-    NotPlain,
+    Complex,
     End,
 }
 
@@ -332,7 +332,7 @@ impl<'a> PlainScanner<'a> {
             }
             let ws = p;
             if b[p] == b'{' || b[p] == b'"' {
-                return Plain::NotPlain;
+                return Plain::Complex;
             }
             // Try the word as a simple decimal number first (the common case
             // in meshes); see `number::parse_simple_decimal` for the rules.
@@ -373,7 +373,7 @@ impl<'a> PlainScanner<'a> {
                 None
             };
             if p < len && !WORD_END[b[p] as usize] {
-                return Plain::NotPlain;
+                return Plain::Complex;
             }
             spans.push(PlainWord { start: ws as u32, end: p as u32, num });
         }
@@ -523,7 +523,6 @@ impl Parser {
                 Err(e) => return Some(Err(e)),
             }
         }
-        let mut end = end;
         while end > start && is_blank(self.src.as_bytes()[end - 1]) {
             end -= 1;
         }

@@ -16,7 +16,7 @@ use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use smallvec::SmallVec;
 
 use super::error::{Code, Exception, TclResult};
-use super::interp::{CommandKind, Interp, NumericFn, add_trace};
+use super::eval::{CommandKind, Interp, NumericFn, add_trace};
 use super::number::{self, Num};
 use super::parser::{Parser, Plain, PlainScanner, PlainWord};
 use super::value::Value;
@@ -124,7 +124,7 @@ fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<std::io::Result<B
         loop {
             match sc.next(&mut spans) {
                 Plain::End => break,
-                Plain::NotPlain => {
+                Plain::Complex => {
                     let pos = sc.pos;
                     batch.stop = Some((pos, sc.line_at(pos)));
                     break;
@@ -311,7 +311,7 @@ impl Interp {
                     r?;
                     continue;
                 }
-                Plain::NotPlain => {}
+                Plain::Complex => {}
             }
             let cmd_pos = p.pos();
             match p.next_command() {

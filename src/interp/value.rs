@@ -196,12 +196,12 @@ impl Value {
     /// Appends to the string in place when this value is not shared.
     pub fn str_append(&mut self, extra: &str) {
         self.as_str();
-        if let Some(inner) = Rc::get_mut(&mut self.0) {
-            if let Some(s) = inner.string.get_mut() {
-                s.push_str(extra);
-                *inner.rep.get_mut() = Rep::None;
-                return;
-            }
+        if let Some(inner) = Rc::get_mut(&mut self.0)
+            && let Some(s) = inner.string.get_mut()
+        {
+            s.push_str(extra);
+            *inner.rep.get_mut() = Rep::None;
+            return;
         }
         let mut s = String::with_capacity(self.as_str().len() + extra.len());
         s.push_str(self.as_str());

@@ -5,7 +5,7 @@ use std::rc::Rc;
 use std::time::Instant;
 
 use super::super::error::{Code, Exception, TclResult};
-use super::super::interp::{Interp, Proc, Var};
+use super::super::eval::{Interp, Proc, Var};
 use super::super::parser;
 use super::super::value::Value;
 use super::{Entry, check_args, glob_match, pick_option};
@@ -155,7 +155,7 @@ fn cmd_for(interp: &mut Interp, argv: &[Value]) -> TclResult {
 }
 
 fn cmd_foreach(interp: &mut Interp, argv: &[Value]) -> TclResult {
-    if argv.len() < 4 || argv.len() % 2 != 0 {
+    if argv.len() < 4 || !argv.len().is_multiple_of(2) {
         return Err(Exception::wrong_args("foreach varList list ?varList list ...? command"));
     }
     let mut groups = Vec::new();
@@ -226,7 +226,7 @@ fn cmd_switch(interp: &mut Interp, argv: &[Value]) -> TclResult {
         1 => argv[i].as_list()?.to_vec(),
         _ => argv[i..].to_vec(),
     };
-    if pairs.len() % 2 != 0 {
+    if !pairs.len().is_multiple_of(2) {
         return Err(Exception::error("extra switch pattern with no body"));
     }
     let fold = |s: &str| if nocase { s.to_lowercase() } else { s.to_string() };
@@ -353,11 +353,11 @@ fn cmd_catch(interp: &mut Interp, argv: &[Value]) -> TclResult {
             c => (c.as_int(), e.value.clone(), Some(e)),
         },
     };
-    if let Some(e) = &e {
-        if e.code == Code::Error {
-            interp.set_var("::errorInfo", Value::from(e.error_info()))?;
-            interp.set_var("::errorCode", e.error_code())?;
-        }
+    if let Some(e) = &e
+        && e.code == Code::Error
+    {
+        interp.set_var("::errorInfo", Value::from(e.error_info()))?;
+        interp.set_var("::errorCode", e.error_code())?;
     }
     if argv.len() > 2 {
         interp.set_var(argv[2].as_str(), value)?;
@@ -365,17 +365,17 @@ fn cmd_catch(interp: &mut Interp, argv: &[Value]) -> TclResult {
     if argv.len() > 3 {
         let mut opts = vec![Value::from("-code"), Value::from_int(code), Value::from("-level")];
         opts.push(Value::from_int(0));
-        if let Some(e) = &e {
-            if e.code == Code::Error {
-                opts.extend([
-                    Value::from("-errorinfo"),
-                    Value::from(e.error_info()),
-                    Value::from("-errorcode"),
-                    e.error_code(),
-                    Value::from("-errorline"),
-                    Value::from_int(e.script_line as i64),
-                ]);
-            }
+        if let Some(e) = &e
+            && e.code == Code::Error
+        {
+            opts.extend([
+                Value::from("-errorinfo"),
+                Value::from(e.error_info()),
+                Value::from("-errorcode"),
+                e.error_code(),
+                Value::from("-errorline"),
+                Value::from_int(e.script_line as i64),
+            ]);
         }
         interp.set_var(argv[3].as_str(), Value::from_list(opts))?;
     }

@@ -4,7 +4,7 @@
 use std::cmp::Ordering;
 
 use super::super::error::{Exception, TclResult};
-use super::super::interp::{Interp, check_len};
+use super::super::eval::{Interp, check_len};
 
 use super::super::value::Value;
 use super::control::concat;
@@ -273,10 +273,10 @@ fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
         let mut out: Vec<(Value, Value)> = Vec::with_capacity(keyed.len());
         for kv in keyed {
             // Keep the last of a run of equal keys, as Tcl does.
-            if let Some(prev) = out.last() {
-                if cmp(&prev.0, &kv.0) == Ordering::Equal {
-                    out.pop();
-                }
+            if let Some(prev) = out.last()
+                && cmp(&prev.0, &kv.0) == Ordering::Equal
+            {
+                out.pop();
             }
             out.push(kv);
         }

@@ -7,7 +7,7 @@ mod strings;
 mod vars;
 
 use super::error::Exception;
-use super::interp::{Interp, NativeFn};
+use super::eval::{Interp, NativeFn};
 use super::value::Value;
 
 type Entry = (&'static str, NativeFn, &'static str, &'static str);

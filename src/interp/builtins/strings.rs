@@ -2,8 +2,8 @@
 //! and puts. String indices count characters, not bytes.
 
 use super::super::error::{Exception, TclResult};
+use super::super::eval::{Interp, check_len};
 use super::super::format;
-use super::super::interp::{Interp, check_len};
 use super::super::number;
 use super::super::value::Value;
 use super::{Entry, check_args, glob_match, parse_index, pick_option};

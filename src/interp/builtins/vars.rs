@@ -3,7 +3,7 @@
 use indexmap::IndexMap;
 
 use super::super::error::{Exception, TclResult};
-use super::super::interp::{Interp, Var, check_len};
+use super::super::eval::{Interp, Var, check_len};
 use super::super::value::Value;
 use super::{Entry, check_args, glob_match, pick_option};
 
@@ -46,10 +46,10 @@ fn cmd_unset(interp: &mut Interp, argv: &[Value]) -> TclResult {
         i += 1;
     }
     for name in &argv[i..] {
-        if let Err(e) = interp.unset_var(name.as_str()) {
-            if complain {
-                return Err(e);
-            }
+        if let Err(e) = interp.unset_var(name.as_str())
+            && complain
+        {
+            return Err(e);
         }
     }
     Ok(Value::empty())
@@ -99,7 +99,7 @@ fn cmd_upvar(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let usage = "?level? otherVar localVar ?otherVar localVar ...?";
     check_args(argv, 3, usize::MAX, usage)?;
     let first = argv[1].as_str();
-    let (frame, rest) = if argv.len() % 2 == 0 {
+    let (frame, rest) = if argv.len().is_multiple_of(2) {
         (interp.resolve_level(first)?, &argv[2..])
     } else {
         (interp.resolve_level("1")?, &argv[1..])
@@ -199,10 +199,10 @@ fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
                     }
                 }
                 Some(p) => {
-                    if let Some(c) = &cell {
-                        if let Var::Array(a) = &mut *c.borrow_mut() {
-                            a.retain(|k, _| !glob_match(p.as_str(), k, false));
-                        }
+                    if let Some(c) = &cell
+                        && let Var::Array(a) = &mut *c.borrow_mut()
+                    {
+                        a.retain(|k, _| !glob_match(p.as_str(), k, false));
                     }
                 }
             }

@@ -98,10 +98,10 @@ fn truncate_cmd(text: &str) -> String {
 
 /// Splits `a(b)` into ("a", Some("b")).
 pub(crate) fn split_var_name(name: &str) -> (&str, Option<&str>) {
-    if name.ends_with(')') {
-        if let Some(open) = name.find('(') {
-            return (&name[..open], Some(&name[open + 1..name.len() - 1]));
-        }
+    if name.ends_with(')')
+        && let Some(open) = name.find('(')
+    {
+        return (&name[..open], Some(&name[open + 1..name.len() - 1]));
     }
     (name, None)
 }
