@@ -78,6 +78,10 @@ pub struct Interp {
     pub(crate) cur: usize,
     pub(crate) depth: usize,
     pub max_depth: usize,
+    /// Optional cap on the number of commands run (for fuzzing and
+    /// sandboxes): past it every command fails.
+    pub max_commands: Option<u64>,
+    commands_run: u64,
     pub(crate) host: Box<dyn Host>,
     rand_seed: i64,
     pub(crate) script_file: Option<Rc<str>>,
@@ -120,6 +124,8 @@ impl Interp {
             cur: 0,
             depth: 0,
             max_depth: DEFAULT_MAX_DEPTH,
+            max_commands: None,
+            commands_run: 0,
             host,
             rand_seed: 0,
             script_file: None,
@@ -368,6 +374,12 @@ impl Interp {
     pub(crate) fn enter(&mut self) -> Result<(), Exception> {
         if self.depth >= self.max_depth {
             return Err(Exception::error("too many nested evaluations (infinite loop?)"));
+        }
+        if let Some(max) = self.max_commands {
+            self.commands_run += 1;
+            if self.commands_run > max {
+                return Err(Exception::error(format!("command limit of {max} reached")));
+            }
         }
         self.depth += 1;
         Ok(())
