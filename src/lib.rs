@@ -17,6 +17,9 @@
 //! - No input makes the program panic: bad scripts are `Exception`s with a
 //!   file and line.
 
+pub mod geometry;
+pub mod image;
 pub mod interp;
+pub mod render;
 pub mod scene;
 pub mod shell;

@@ -1,14 +1,28 @@
-//! `Builder`: geometry pools (vertices, normals), triangles and spheres,
-//! added by the scene commands. Indices are checked when a primitive is
-//! added, so a frozen scene never holds a dangling index.
+//! `Builder`: the mutable scene that scene commands change: the camera,
+//! geometry pools (vertices, normals), primitives, lights and the current
+//! material (state that applies to the objects that follow, as in OpenGL).
+//! Every input is checked here, so a frozen `Scene` is always valid.
 
 use glam::Vec3;
+
+use super::camera::Camera;
+use super::light::Light;
+use super::material::Material;
+use crate::geometry::{Shape, Triangle};
+
+/// The largest image, in pixels (64 Mpixel: 768 MiB of f32 RGB).
+pub const MAX_PIXELS: u64 = 1 << 26;
+/// The deepest recursion `trace_depth` accepts.
+pub const MAX_TRACE_DEPTH: u32 = 64;
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum SceneError {
     IndexOutOfRange { pool: &'static str, index: i64, size: usize },
     NotFinite,
     Capacity { what: &'static str },
+    ZeroVector { what: &'static str },
+    UpParallel,
+    Invalid(String),
 }
 
 impl std::fmt::Display for SceneError {
@@ -19,89 +33,268 @@ impl std::fmt::Display for SceneError {
             }
             SceneError::NotFinite => write!(f, "numbers must be finite (not NaN or infinite)"),
             SceneError::Capacity { what } => write!(f, "too many {what}: the limit is 2^32"),
+            SceneError::ZeroVector { what } => write!(f, "{what} must not be the zero vector"),
+            SceneError::UpParallel => write!(f, "camera up vector is parallel to the view direction"),
+            SceneError::Invalid(s) => f.write_str(s),
         }
     }
 }
 
-#[derive(Default)]
-pub struct Builder {
-    pub vertices: Vec<Vec3>,
-    pub normals: Vec<Vec3>,
-    /// Triangles as (vertex, normal) index triples; normal `u32::MAX` = flat.
-    pub triangles: Vec<[(u32, u32); 3]>,
+/// Where the camera looks: at a point, or along a direction.
+#[derive(Clone, Copy, Debug)]
+pub enum Aim {
+    Target(Vec3),
+    Forward(Vec3),
 }
 
-const FLAT: u32 = u32::MAX;
+#[derive(Clone, Debug)]
+pub struct Builder {
+    pub from: Vec3,
+    pub aim: Aim,
+    pub up: Vec3,
+    /// Horizontal field of view in degrees.
+    pub angle: f32,
+    pub width: u32,
+    pub height: u32,
+    pub vertices: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub shapes: Vec<Shape>,
+    pub materials: Vec<Material>,
+    pub lights: Vec<Light>,
+    pub ambient: Vec3,
+    pub background: Vec3,
+    pub trace_depth: u32,
+    /// Triangles skipped because they have no area.
+    pub degenerate: usize,
+}
+
+impl Default for Builder {
+    fn default() -> Builder {
+        Builder {
+            from: Vec3::ZERO,
+            aim: Aim::Target(Vec3::new(0.0, 0.0, -1.0)),
+            up: Vec3::Y,
+            angle: 45.0,
+            width: 256,
+            height: 256,
+            vertices: Vec::new(),
+            normals: Vec::new(),
+            shapes: Vec::new(),
+            materials: vec![Material::default()],
+            lights: Vec::new(),
+            ambient: Vec3::ZERO,
+            background: Vec3::ZERO,
+            trace_depth: 5,
+            degenerate: 0,
+        }
+    }
+}
+
+fn finite(v: Vec3) -> Result<Vec3, SceneError> {
+    if v.is_finite() { Ok(v) } else { Err(SceneError::NotFinite) }
+}
+
+pub(crate) fn check_nonzero(v: Vec3, what: &'static str) -> Result<Vec3, SceneError> {
+    let v = finite(v)?;
+    if v.length_squared() == 0.0 || !v.length_squared().is_normal() {
+        return Err(SceneError::ZeroVector { what });
+    }
+    Ok(v)
+}
+
+pub(crate) fn check_color(c: Vec3) -> Result<Vec3, SceneError> {
+    let c = finite(c)?;
+    if c.min_element() < 0.0 {
+        return Err(SceneError::Invalid("colour components must not be negative".into()));
+    }
+    Ok(c)
+}
 
 impl Builder {
     pub fn new() -> Builder {
         Builder::default()
     }
 
-    fn check_finite(v: Vec3) -> Result<(), SceneError> {
-        if v.is_finite() { Ok(()) } else { Err(SceneError::NotFinite) }
+    fn material_index(&self) -> u32 {
+        (self.materials.len() - 1) as u32
+    }
+
+    // -- Camera ---------------------------------------------------------------
+
+    pub fn camera_from(&mut self, p: Vec3) -> Result<(), SceneError> {
+        self.from = finite(p)?;
+        Ok(())
+    }
+
+    pub fn camera_target(&mut self, p: Vec3) -> Result<(), SceneError> {
+        self.aim = Aim::Target(finite(p)?);
+        Ok(())
+    }
+
+    pub fn camera_forward(&mut self, d: Vec3) -> Result<(), SceneError> {
+        self.aim = Aim::Forward(check_nonzero(d, "camera_forw direction")?);
+        Ok(())
+    }
+
+    pub fn camera_up(&mut self, u: Vec3) -> Result<(), SceneError> {
+        self.up = check_nonzero(u, "camera_up vector")?;
+        Ok(())
+    }
+
+    pub fn camera_angle(&mut self, degrees: f32) -> Result<(), SceneError> {
+        if !(degrees > 0.0 && degrees < 180.0) {
+            return Err(SceneError::Invalid(format!(
+                "camera angle must be between 0 and 180 degrees, got {degrees}"
+            )));
+        }
+        self.angle = degrees;
+        Ok(())
+    }
+
+    pub fn camera_resolution(&mut self, w: i64, h: i64) -> Result<(), SceneError> {
+        if w < 1 || h < 1 {
+            return Err(SceneError::Invalid(format!("resolution must be at least 1x1, got {w}x{h}")));
+        }
+        let pixels = (w as u64).saturating_mul(h as u64);
+        if pixels > MAX_PIXELS || w > u32::MAX as i64 || h > u32::MAX as i64 {
+            let mib = pixels.saturating_mul(12) >> 20;
+            return Err(SceneError::Invalid(format!(
+                "resolution {w}x{h} would need {mib} MiB for the image; the limit is {} Mpixel",
+                MAX_PIXELS >> 20
+            )));
+        }
+        self.width = w as u32;
+        self.height = h as u32;
+        Ok(())
+    }
+
+    /// The camera as it would render now (checks `camera_up`).
+    pub fn camera(&self) -> Result<Camera, SceneError> {
+        let forward = match self.aim {
+            Aim::Target(t) => t - self.from,
+            Aim::Forward(d) => d,
+        };
+        if forward.length_squared() == 0.0 {
+            return Err(SceneError::Invalid("camera_target is the same point as camera_from".into()));
+        }
+        Camera::new(self.from, forward, self.up, self.angle, self.width, self.height)
+            .ok_or(SceneError::UpParallel)
+    }
+
+    // -- Geometry -------------------------------------------------------------
+
+    pub fn reserve_vertices(&mut self, n: i64) {
+        self.vertices.reserve(n.clamp(0, 1 << 24) as usize);
+    }
+
+    pub fn reserve_normals(&mut self, n: i64) {
+        self.normals.reserve(n.clamp(0, 1 << 24) as usize);
     }
 
     /// Adds a vertex; returns its index.
     pub fn vertex(&mut self, p: Vec3) -> Result<usize, SceneError> {
-        Builder::check_finite(p)?;
-        if self.vertices.len() >= FLAT as usize {
+        if self.vertices.len() >= u32::MAX as usize - 1 {
             return Err(SceneError::Capacity { what: "vertices" });
         }
-        self.vertices.push(p);
+        self.vertices.push(finite(p)?);
         Ok(self.vertices.len() - 1)
     }
 
     /// Adds a normal; returns its index.
     pub fn normal(&mut self, n: Vec3) -> Result<usize, SceneError> {
-        Builder::check_finite(n)?;
-        if self.normals.len() >= FLAT as usize {
+        if self.normals.len() >= u32::MAX as usize - 1 {
             return Err(SceneError::Capacity { what: "normals" });
         }
-        self.normals.push(n);
+        self.normals.push(check_nonzero(n, "a normal")?.normalize());
         Ok(self.normals.len() - 1)
     }
 
-    fn vertex_index(&self, i: i64) -> Result<u32, SceneError> {
+    fn vertex_at(&self, i: i64) -> Result<Vec3, SceneError> {
         if i < 0 || i as usize >= self.vertices.len() {
-            return Err(SceneError::IndexOutOfRange {
-                pool: "vertex",
-                index: i,
-                size: self.vertices.len(),
-            });
+            return Err(SceneError::IndexOutOfRange { pool: "vertex", index: i, size: self.vertices.len() });
         }
-        Ok(i as u32)
+        Ok(self.vertices[i as usize])
     }
 
     fn normal_index(&self, i: i64) -> Result<u32, SceneError> {
         if i < 0 || i as usize >= self.normals.len() {
-            return Err(SceneError::IndexOutOfRange {
-                pool: "normal",
-                index: i,
-                size: self.normals.len(),
-            });
+            return Err(SceneError::IndexOutOfRange { pool: "normal", index: i, size: self.normals.len() });
         }
         Ok(i as u32)
     }
 
-    /// A flat triangle from three vertex indices (counter-clockwise).
-    pub fn tri(&mut self, v: [i64; 3]) -> Result<(), SceneError> {
-        let t = [
-            (self.vertex_index(v[0])?, FLAT),
-            (self.vertex_index(v[1])?, FLAT),
-            (self.vertex_index(v[2])?, FLAT),
-        ];
-        self.triangles.push(t);
-        Ok(())
+    fn push_triangle(&mut self, p: [Vec3; 3], normals: [u32; 3]) -> bool {
+        let t = Triangle { p, normals, material: self.material_index() };
+        let n = t.cross();
+        if !(n.length_squared() > 0.0) || !n.is_finite() {
+            self.degenerate += 1;
+            return false;
+        }
+        self.shapes.push(Shape::Triangle(t));
+        true
+    }
+
+    /// A flat triangle from three vertex indices (counter-clockwise). Returns
+    /// false when it has no area and was skipped.
+    pub fn tri(&mut self, v: [i64; 3]) -> Result<bool, SceneError> {
+        let p = [self.vertex_at(v[0])?, self.vertex_at(v[1])?, self.vertex_at(v[2])?];
+        Ok(self.push_triangle(p, [Triangle::FLAT; 3]))
     }
 
     /// A smooth triangle: (vertex, normal) index pairs.
-    pub fn ntri(&mut self, vn: [(i64, i64); 3]) -> Result<(), SceneError> {
-        let mut t = [(0, 0); 3];
-        for (slot, (v, n)) in t.iter_mut().zip(vn) {
-            *slot = (self.vertex_index(v)?, self.normal_index(n)?);
+    pub fn ntri(&mut self, vn: [(i64, i64); 3]) -> Result<bool, SceneError> {
+        let mut p = [Vec3::ZERO; 3];
+        let mut n = [0u32; 3];
+        for k in 0..3 {
+            p[k] = self.vertex_at(vn[k].0)?;
+            n[k] = self.normal_index(vn[k].1)?;
         }
-        self.triangles.push(t);
+        Ok(self.push_triangle(p, n))
+    }
+
+    pub fn sphere(&mut self, center: Vec3, radius: f32) -> Result<(), SceneError> {
+        let center = finite(center)?;
+        if !(radius > 0.0 && radius.is_finite()) {
+            return Err(SceneError::Invalid(format!("sphere radius must be positive, got {radius}")));
+        }
+        self.shapes.push(Shape::Sphere { center, radius, material: self.material_index() });
+        Ok(())
+    }
+
+    // -- Lights and materials -------------------------------------------------
+
+    pub fn set_background(&mut self, c: Vec3) -> Result<(), SceneError> {
+        self.background = check_color(c)?;
+        Ok(())
+    }
+
+    pub fn set_ambient(&mut self, c: Vec3) -> Result<(), SceneError> {
+        self.ambient = check_color(c)?;
+        Ok(())
+    }
+
+    pub fn add_light(&mut self, light: Light) -> Result<(), SceneError> {
+        light.check()?;
+        self.lights.push(light);
+        Ok(())
+    }
+
+    pub fn set_material(&mut self, m: Material) -> Result<(), SceneError> {
+        m.check()?;
+        if self.materials.len() >= u32::MAX as usize {
+            return Err(SceneError::Capacity { what: "materials" });
+        }
+        self.materials.push(m);
+        Ok(())
+    }
+
+    pub fn set_trace_depth(&mut self, d: i64) -> Result<(), SceneError> {
+        if !(0..=MAX_TRACE_DEPTH as i64).contains(&d) {
+            return Err(SceneError::Invalid(format!(
+                "trace depth must be between 0 and {MAX_TRACE_DEPTH}, got {d}"
+            )));
+        }
+        self.trace_depth = d as u32;
         Ok(())
     }
 

@@ -1,7 +1,15 @@
-//! The scene: a mutable `Builder` that scene commands change. It knows
-//! nothing of the interpreter; commands convert words to numbers first.
-//! (The frozen, render-ready scene arrives with the renderer.)
+//! The scene: a mutable `Builder` that scene commands change, frozen into an
+//! immutable `Scene` (with its BVH) for each render. It knows nothing of the
+//! interpreter; commands convert words to numbers first.
 
 mod builder;
+mod camera;
+mod light;
+mod material;
+mod scene;
 
-pub use builder::{Builder, SceneError};
+pub use builder::{Aim, Builder, MAX_PIXELS, MAX_TRACE_DEPTH, SceneError};
+pub use camera::Camera;
+pub use light::{Light, spot_factor};
+pub use material::Material;
+pub use scene::Scene;

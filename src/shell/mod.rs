@@ -222,7 +222,11 @@ fn run(cli: Cli) -> i32 {
                     return 1;
                 }
             };
-            let r = interp.eval_reader(Some(&path_str), &mut f);
+            let mut r = interp.eval_reader(Some(&path_str), &mut f);
+            if let (Ok(_), Some(out)) = (&r, &cli.output) {
+                let argv = [Value::from("render"), Value::from(out.to_string_lossy().as_ref())];
+                r = interp.invoke(&argv);
+            }
             finish(&mut interp, r)
         }
         None if std::io::stdin().is_terminal() => repl::run(&mut interp),
@@ -232,6 +236,33 @@ fn run(cli: Cli) -> i32 {
             finish(&mut interp, r)
         }
     }
+}
+
+/// Writes a file atomically: into a temporary name in the same directory,
+/// then renamed over the final name, so no reader ever sees half a file.
+pub fn write_atomic(
+    path: &str,
+    f: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    let p = std::path::Path::new(path);
+    let name = p.file_name().ok_or_else(|| std::io::Error::other("not a file name"))?;
+    let dir = match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+    let result = (|| {
+        let file = std::fs::File::create(&tmp)?;
+        let mut w = std::io::BufWriter::new(file);
+        f(&mut w)?;
+        let file = w.into_inner().map_err(|e| e.into_error())?;
+        file.sync_all()?;
+        std::fs::rename(&tmp, p)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
 }
 
 pub fn io_reason(e: &std::io::Error) -> String {

@@ -1,0 +1,77 @@
+use super::*;
+use crate::geometry::Triangle;
+
+fn lcg(seed: &mut u64) -> f32 {
+    *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    (*seed >> 40) as f32 / (1u64 << 24) as f32
+}
+
+fn random_scene(n: usize, seed: &mut u64) -> Vec<Shape> {
+    (0..n)
+        .map(|i| {
+            let c = Vec3::new(lcg(seed), lcg(seed), lcg(seed)) * 10.0;
+            if i % 5 == 0 {
+                Shape::Sphere { center: c, radius: 0.05 + lcg(seed) * 0.3, material: 0 }
+            } else {
+                let d = |s: &mut u64| Vec3::new(lcg(s), lcg(s), lcg(s)) - 0.5;
+                Shape::Triangle(Triangle { p: [c, c + d(seed), c + d(seed)], normals: [Triangle::FLAT; 3], material: 0 })
+            }
+        })
+        .collect()
+}
+
+fn brute(shapes: &[Shape], ray: &Ray) -> Option<f32> {
+    let pre = RayPre::new(ray.dir);
+    shapes.iter().filter_map(|s| s.intersect(ray, &pre, 0.0, f32::INFINITY).map(|h| h.0)).reduce(f32::min)
+}
+
+#[test]
+fn same_hits_as_brute_force() {
+    let mut seed = 7;
+    let shapes = random_scene(3000, &mut seed);
+    let bvh = Bvh::build(shapes.clone());
+    assert_eq!(bvh.shapes.len(), shapes.len());
+    for _ in 0..3000 {
+        let o = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 14.0 - 2.0;
+        let d = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) - 0.5;
+        let ray = Ray::new(o, d);
+        let got = bvh.intersect(&ray, 0.0, f32::INFINITY).0.map(|h| h.t);
+        assert_eq!(got, brute(&shapes, &ray), "ray {o} {d}");
+        // Any-hit agrees with closest-hit about occlusion.
+        let blocked = bvh.transmittance(&ray, 0.0, f32::INFINITY, |_| Vec3::ZERO) == Vec3::ZERO;
+        assert_eq!(blocked, got.is_some());
+    }
+}
+
+#[test]
+fn every_primitive_is_reachable() {
+    let mut seed = 99;
+    let shapes = random_scene(500, &mut seed);
+    let bvh = Bvh::build(shapes);
+    for (i, s) in bvh.shapes.iter().enumerate() {
+        // A ray from just outside each primitive's centre towards it hits it
+        // or something in front of it, never nothing.
+        let c = s.bounds().centroid();
+        let target = match s {
+            Shape::Triangle(t) => (t.p[0] + t.p[1] + t.p[2]) / 3.0,
+            Shape::Sphere { center, .. } => *center,
+        };
+        let o = c + Vec3::new(0.0, 0.0, 20.0);
+        let ray = Ray::new(o, target - o);
+        let (hit, _) = bvh.intersect(&ray, 0.0, f32::INFINITY);
+        let hit = hit.unwrap_or_else(|| panic!("primitive {i} unreachable"));
+        assert!(hit.t <= 1.0 + 1e-4);
+    }
+    let st = bvh.stats();
+    assert!(st.leaves > 0 && st.nodes >= st.leaves && st.depth < 64);
+}
+
+#[test]
+fn degenerate_inputs() {
+    assert!(Bvh::build(Vec::new()).intersect(&Ray::new(Vec3::ZERO, Vec3::X), 0.0, 1.0).0.is_none());
+    // Many identical spheres: no infinite recursion, all found.
+    let same = vec![Shape::Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }; 1000];
+    let bvh = Bvh::build(same);
+    let r = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
+    assert_eq!(bvh.intersect(&r, 0.0, f32::INFINITY).0.map(|h| h.t), Some(4.0));
+}

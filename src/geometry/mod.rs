@@ -1,0 +1,13 @@
+//! Geometry: rays, boxes, spheres, triangles and the BVH over them. A leaf:
+//! it depends only on glam. Every query takes its own `t_min`/`t_max`;
+//! there is no global epsilon.
+
+mod aabb;
+mod bvh;
+mod ray;
+mod shapes;
+
+pub use aabb::Aabb;
+pub use bvh::{Bvh, BvhStats};
+pub use ray::Ray;
+pub use shapes::{Hit, RayPre, Shape, Triangle, intersect_sphere, intersect_triangle, intersect_triangle_f64};

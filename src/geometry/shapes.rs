@@ -1,0 +1,181 @@
+//! Spheres and triangles: intersection tests and the `Shape` the BVH holds.
+//! Triangles use the watertight test of Woop, Benthin and Wald (2013), so a
+//! ray never slips through the shared edge of two triangles of a mesh.
+
+use glam::{DVec3, Vec3};
+
+use super::{Aabb, Ray};
+
+/// A triangle with its vertices inline (fast to test) and the indices of
+/// its vertex normals in the scene's normal pool (`u32::MAX`: flat).
+#[derive(Clone, Copy, Debug)]
+pub struct Triangle {
+    pub p: [Vec3; 3],
+    pub normals: [u32; 3],
+    pub material: u32,
+}
+
+impl Triangle {
+    pub const FLAT: u32 = u32::MAX;
+
+    /// The counter-clockwise geometric normal (not normalized).
+    pub fn cross(&self) -> Vec3 {
+        (self.p[1] - self.p[0]).cross(self.p[2] - self.p[0])
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+pub enum Shape {
+    Triangle(Triangle),
+    Sphere { center: Vec3, radius: f32, material: u32 },
+}
+
+impl Shape {
+    pub fn bounds(&self) -> Aabb {
+        match self {
+            Shape::Triangle(t) => Aabb::EMPTY.grow(t.p[0]).grow(t.p[1]).grow(t.p[2]),
+            Shape::Sphere { center, radius, .. } => {
+                Aabb { min: *center - Vec3::splat(*radius), max: *center + Vec3::splat(*radius) }
+            }
+        }
+    }
+
+    pub fn material(&self) -> u32 {
+        match self {
+            Shape::Triangle(t) => t.material,
+            Shape::Sphere { material, .. } => *material,
+        }
+    }
+
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, pre: &RayPre, t_min: f32, t_max: f32) -> Option<(f32, [f32; 2])> {
+        match self {
+            Shape::Triangle(t) => intersect_triangle_pre(t, ray, pre, t_min, t_max),
+            Shape::Sphere { center, radius, .. } => {
+                intersect_sphere(ray, *center, *radius, t_min, t_max).map(|t| (t, [0.0, 0.0]))
+            }
+        }
+    }
+}
+
+/// A hit: distance, the primitive (index into the BVH's shapes) and the
+/// barycentric weights of vertices 1 and 2 for triangles.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    pub t: f32,
+    pub prim: u32,
+    pub uv: [f32; 2],
+}
+
+/// Per-ray constants of the watertight triangle test.
+#[derive(Clone, Copy, Debug)]
+pub struct RayPre {
+    k: [usize; 3],
+    s: Vec3,
+}
+
+impl RayPre {
+    pub fn new(dir: Vec3) -> RayPre {
+        let a = dir.abs();
+        let kz = if a.x > a.y { if a.x > a.z { 0 } else { 2 } } else if a.y > a.z { 1 } else { 2 };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if dir[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        RayPre { k: [kx, ky, kz], s: Vec3::new(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]) }
+    }
+}
+
+/// Ray-sphere: the nearest root in `(t_min, t_max)`, computed in the
+/// cancellation-free form of Ray Tracing Gems, chapter 7.
+pub fn intersect_sphere(ray: &Ray, center: Vec3, radius: f32, t_min: f32, t_max: f32) -> Option<f32> {
+    let f = ray.origin - center;
+    let a = ray.dir.length_squared();
+    let b = -f.dot(ray.dir);
+    let l = f + ray.dir * (b / a);
+    let disc = a * (radius * radius - l.length_squared());
+    if disc < 0.0 {
+        return None;
+    }
+    let c = f.length_squared() - radius * radius;
+    let q = b + b.signum() * disc.sqrt();
+    if q == 0.0 {
+        return None;
+    }
+    let (t0, t1) = (c / q, q / a);
+    let (t0, t1) = if t0 < t1 { (t0, t1) } else { (t1, t0) };
+    if t0 > t_min && t0 < t_max {
+        Some(t0)
+    } else if t1 > t_min && t1 < t_max {
+        Some(t1)
+    } else {
+        None
+    }
+}
+
+/// Watertight ray-triangle test; returns `t` and the barycentric weights
+/// of vertices 1 and 2.
+pub fn intersect_triangle(ray: &Ray, tri: &Triangle, t_min: f32, t_max: f32) -> Option<(f32, [f32; 2])> {
+    intersect_triangle_pre(tri, ray, &RayPre::new(ray.dir), t_min, t_max)
+}
+
+#[inline]
+fn intersect_triangle_pre(tri: &Triangle, ray: &Ray, pre: &RayPre, t_min: f32, t_max: f32) -> Option<(f32, [f32; 2])> {
+    let [kx, ky, kz] = pre.k;
+    let a = tri.p[0] - ray.origin;
+    let b = tri.p[1] - ray.origin;
+    let c = tri.p[2] - ray.origin;
+    let (ax, ay) = (a[kx] - pre.s.x * a[kz], a[ky] - pre.s.y * a[kz]);
+    let (bx, by) = (b[kx] - pre.s.x * b[kz], b[ky] - pre.s.y * b[kz]);
+    let (cx, cy) = (c[kx] - pre.s.x * c[kz], c[ky] - pre.s.y * c[kz]);
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        // On an edge in single precision: decide it in double precision.
+        let d = |x1: f32, y1: f32, x2: f32, y2: f32| (x1 as f64 * y2 as f64 - y1 as f64 * x2 as f64) as f32;
+        u = d(cx, cy, bx, by);
+        v = d(ax, ay, cx, cy);
+        w = d(bx, by, ax, ay);
+    }
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return None;
+    }
+    let (az, bz, cz) = (pre.s.z * a[kz], pre.s.z * b[kz], pre.s.z * c[kz]);
+    let t_scaled = u * az + v * bz + w * cz;
+    let t = t_scaled / det;
+    if !(t > t_min && t < t_max) {
+        return None;
+    }
+    Some((t, [v / det, w / det]))
+}
+
+/// Exact-ish reference used by tests: Möller-Trumbore in double precision.
+pub fn intersect_triangle_f64(ray: &Ray, tri: &Triangle) -> Option<f64> {
+    let o = ray.origin.as_dvec3();
+    let d = ray.dir.as_dvec3();
+    let p: [DVec3; 3] = [tri.p[0].as_dvec3(), tri.p[1].as_dvec3(), tri.p[2].as_dvec3()];
+    let e1 = p[1] - p[0];
+    let e2 = p[2] - p[0];
+    let h = d.cross(e2);
+    let det = e1.dot(h);
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let s = o - p[0];
+    let u = s.dot(h) / det;
+    let q = s.cross(e1);
+    let v = d.dot(q) / det;
+    if u < 0.0 || v < 0.0 || u + v > 1.0 {
+        return None;
+    }
+    Some(e2.dot(q) / det)
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,148 @@
+//! Images: a linear f32 RGB buffer, written as binary PPM (P6, maxval 255)
+//! or PNG (8-bit RGB). Writers take `impl Write`; the shell does the files.
+
+use std::io::{self, Write};
+
+use glam::Vec3;
+
+#[derive(Clone, Debug)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec3>,
+}
+
+/// How linear values become 8-bit numbers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Encoding {
+    /// Clamp to [0, 1] and scale (the COS 426 convention; the default).
+    #[default]
+    Linear,
+    /// Clamp, then apply the sRGB transfer curve.
+    Srgb,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Ppm,
+    Png,
+}
+
+impl Format {
+    /// From a file name's extension.
+    pub fn from_path(path: &str) -> Option<Format> {
+        let lower = path.to_ascii_lowercase();
+        if lower.ends_with(".ppm") {
+            Some(Format::Ppm)
+        } else if lower.ends_with(".png") {
+            Some(Format::Png)
+        } else {
+            None
+        }
+    }
+}
+
+fn to_byte(v: f32, enc: Encoding) -> u8 {
+    let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+    let v = match enc {
+        Encoding::Linear => v,
+        Encoding::Srgb => {
+            if v <= 0.0031308 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 }
+        }
+    };
+    (v * 255.0 + 0.5) as u8
+}
+
+impl Image {
+    pub fn new(width: u32, height: u32) -> Image {
+        Image { width, height, pixels: vec![Vec3::ZERO; width as usize * height as usize] }
+    }
+
+    pub fn get(&self, x: u32, y: u32) -> Vec3 {
+        self.pixels[y as usize * self.width as usize + x as usize]
+    }
+
+    pub fn to_rgb8(&self, enc: Encoding) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.pixels.len() * 3);
+        for p in &self.pixels {
+            out.extend([to_byte(p.x, enc), to_byte(p.y, enc), to_byte(p.z, enc)]);
+        }
+        out
+    }
+
+    pub fn write(&self, w: impl Write, format: Format, enc: Encoding) -> io::Result<()> {
+        match format {
+            Format::Ppm => write_ppm(w, self.width, self.height, &self.to_rgb8(enc)),
+            Format::Png => write_png(w, self.width, self.height, &self.to_rgb8(enc)),
+        }
+    }
+}
+
+pub fn write_ppm(mut w: impl Write, width: u32, height: u32, rgb: &[u8]) -> io::Result<()> {
+    write!(w, "P6\n{width} {height}\n255\n")?;
+    w.write_all(rgb)?;
+    w.flush()
+}
+
+pub fn write_png(w: impl Write, width: u32, height: u32, rgb: &[u8]) -> io::Result<()> {
+    let mut enc = png::Encoder::new(w, width, height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut writer = enc.write_header().map_err(io::Error::other)?;
+    writer.write_image_data(rgb).map_err(io::Error::other)?;
+    writer.finish().map_err(io::Error::other)
+}
+
+/// Reads a binary PPM (P6, maxval 255): (width, height, rgb bytes).
+pub fn read_ppm(data: &[u8]) -> Option<(u32, u32, Vec<u8>)> {
+    let mut fields = Vec::new();
+    let mut i = 0;
+    while fields.len() < 4 {
+        while i < data.len() && data[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        if i < data.len() && data[i] == b'#' {
+            while i < data.len() && data[i] != b'\n' {
+                i += 1;
+            }
+            continue;
+        }
+        let start = i;
+        while i < data.len() && !data[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        if start == i {
+            return None;
+        }
+        fields.push(std::str::from_utf8(&data[start..i]).ok()?.to_string());
+    }
+    if fields[0] != "P6" || fields[3] != "255" {
+        return None;
+    }
+    let (w, h): (u32, u32) = (fields[1].parse().ok()?, fields[2].parse().ok()?);
+    let body = data.get(i + 1..)?;
+    let n = w as usize * h as usize * 3;
+    if body.len() < n {
+        return None;
+    }
+    Some((w, h, body[..n].to_vec()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ppm_round_trip_and_clamping() {
+        let mut img = Image::new(2, 1);
+        img.pixels[0] = Vec3::new(1.5, 0.5, -1.0);
+        img.pixels[1] = Vec3::new(f32::NAN, 0.0, 1.0);
+        let mut buf = Vec::new();
+        img.write(&mut buf, Format::Ppm, Encoding::Linear).unwrap();
+        assert!(buf.starts_with(b"P6\n2 1\n255\n"));
+        let (w, h, rgb) = read_ppm(&buf).unwrap();
+        assert_eq!((w, h), (2, 1));
+        assert_eq!(rgb, vec![255, 128, 0, 0, 0, 255]);
+        assert_eq!(to_byte(0.5, Encoding::Srgb), 188);
+    }
+}

@@ -1,0 +1,202 @@
+//! The Whitted tracer. Shading (per the COS 426 rayshell):
+//!   Ka·ambient·colour
+//! + Σ lights a shadow ray reaches: [Kd·colour·light·max(0, N·L) + Ks·light·max(0, R·V)^n_s]
+//! + Ks·(reflected ray) + T·(transmitted ray, Snell's law, total internal reflection).
+//! Shadow rays pass through transmitting surfaces, tinted by T·colour at
+//! each surface crossed. Secondary rays start from a point offset along the
+//! geometric normal by an amount relative to the point's magnitude.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use crate::geometry::{Hit, Ray, Shape};
+use crate::image::Image;
+use crate::scene::Scene;
+
+/// A ray whose contribution to its pixel is below this is not traced.
+const MIN_WEIGHT: f32 = 1.0 / 1024.0;
+
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RayStats {
+    pub primary: u64,
+    pub shadow: u64,
+    pub reflected: u64,
+    pub refracted: u64,
+    pub nodes_visited: u64,
+}
+
+impl RayStats {
+    fn add(self, o: RayStats) -> RayStats {
+        RayStats {
+            primary: self.primary + o.primary,
+            shadow: self.shadow + o.shadow,
+            reflected: self.reflected + o.reflected,
+            refracted: self.refracted + o.refracted,
+            nodes_visited: self.nodes_visited + o.nodes_visited,
+        }
+    }
+
+    pub fn total(&self) -> u64 {
+        self.primary + self.shadow + self.reflected + self.refracted
+    }
+}
+
+/// Mirror `d` about `n`.
+pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
+    d - 2.0 * d.dot(n) * n
+}
+
+/// Refract unit `d` through a surface with unit normal `n` facing against
+/// `d`, with `eta` = n_from / n_to; `None` on total internal reflection.
+pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+    let cos_i = -d.dot(n);
+    let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
+    if k < 0.0 {
+        return None;
+    }
+    Some(eta * d + (eta * cos_i - k.sqrt()) * n)
+}
+
+/// How far to move a secondary ray's origin off the surface at `p`.
+fn offset(p: Vec3) -> f32 {
+    1e-4 * p.abs().max_element().max(1.0)
+}
+
+/// Renders the whole image; also returns the ray counts.
+pub fn render(scene: &Scene) -> (Image, RayStats) {
+    let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
+    let mut img = Image::new(w as u32, h as u32);
+    let stats = img
+        .pixels
+        .par_chunks_mut(w)
+        .enumerate()
+        .map(|(y, row)| {
+            let mut st = RayStats::default();
+            for (x, px) in row.iter_mut().enumerate() {
+                let ray = scene.camera.ray(x as u32, y as u32);
+                st.primary += 1;
+                *px = trace(scene, &ray, 0, 1.0, &mut st);
+            }
+            st
+        })
+        .reduce(RayStats::default, RayStats::add);
+    (img, stats)
+}
+
+/// The colour seen along `ray`, `depth` bounces deep.
+pub fn trace(scene: &Scene, ray: &Ray, depth: u32, weight: f32, st: &mut RayStats) -> Vec3 {
+    let (hit, visited) = scene.bvh.intersect(ray, 0.0, f32::INFINITY);
+    st.nodes_visited += visited as u64;
+    match hit {
+        Some(h) => shade(scene, ray, &h, depth, weight, st),
+        None => scene.background,
+    }
+}
+
+fn shade(scene: &Scene, ray: &Ray, hit: &Hit, depth: u32, weight: f32, st: &mut RayStats) -> Vec3 {
+    let shape = &scene.bvh.shapes[hit.prim as usize];
+    let m = &scene.materials[shape.material() as usize];
+    let p = ray.at(hit.t);
+    let d = ray.dir.normalize();
+    // Geometric and shading normals, outward (counter-clockwise) first.
+    let (mut ng, mut ns) = match shape {
+        Shape::Sphere { center, .. } => {
+            let n = (p - *center).normalize();
+            (n, n)
+        }
+        Shape::Triangle(t) => {
+            let ng = t.cross().normalize();
+            if t.normals[0] == crate::geometry::Triangle::FLAT {
+                (ng, ng)
+            } else {
+                let [u, v] = hit.uv;
+                let n = &scene.normals;
+                let ns = n[t.normals[0] as usize] * (1.0 - u - v)
+                    + n[t.normals[1] as usize] * u
+                    + n[t.normals[2] as usize] * v;
+                (ng, ns.try_normalize().unwrap_or(ng))
+            }
+        }
+    };
+    let entering = d.dot(ng) < 0.0;
+    if !entering {
+        ng = -ng;
+        ns = -ns;
+    }
+    if ns.dot(ng) < 0.0 {
+        ns = ng;
+    }
+    let eps = offset(p);
+    let above = p + ng * eps;
+    let view = -d;
+
+    let mut color = m.ka * scene.ambient * m.color;
+    for light in &scene.lights {
+        let (l, dist, li) = light.at(p);
+        if li == Vec3::ZERO || l.dot(ng) <= 0.0 {
+            continue;
+        }
+        let n_dot_l = ns.dot(l);
+        if n_dot_l <= 0.0 {
+            continue;
+        }
+        st.shadow += 1;
+        let t_max = if dist.is_finite() { dist - 2.0 * eps } else { f32::INFINITY };
+        let through = scene.bvh.transmittance(&Ray::new(above, l), 0.0, t_max, |prim| {
+            let om = &scene.materials[scene.bvh.shapes[prim as usize].material() as usize];
+            if om.t > 0.0 { om.t * om.color } else { Vec3::ZERO }
+        });
+        if through == Vec3::ZERO {
+            continue;
+        }
+        let mut c = m.kd * m.color * li * n_dot_l;
+        if m.ks > 0.0 {
+            let r = reflect(-l, ns);
+            let r_dot_v = r.dot(view).max(0.0);
+            if r_dot_v > 0.0 {
+                c += m.ks * li * r_dot_v.powf(m.ns);
+            }
+        }
+        color += through * c;
+    }
+
+    if depth < scene.trace_depth {
+        if m.ks > 0.0 && weight * m.ks >= MIN_WEIGHT {
+            st.reflected += 1;
+            let r = Ray::new(above, reflect(d, ns));
+            color += m.ks * trace(scene, &r, depth + 1, weight * m.ks, st);
+        }
+        if m.t > 0.0 && weight * m.t >= MIN_WEIGHT {
+            let eta = if entering { 1.0 / m.ior } else { m.ior };
+            let r = match refract(d, ns, eta) {
+                Some(dir) => Ray::new(p - ng * eps, dir),
+                // Total internal reflection: the light stays inside.
+                None => Ray::new(above, reflect(d, ns)),
+            };
+            st.refracted += 1;
+            color += m.t * trace(scene, &r, depth + 1, weight * m.t, st);
+        }
+    }
+    color
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mirror_and_snell() {
+        let d = Vec3::new(1.0, -1.0, 0.0).normalize();
+        assert!((reflect(d, Vec3::Y) - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-6);
+        // 45 degrees into glass (1.5): sin(t) = sin(45)/1.5.
+        let t = refract(d, Vec3::Y, 1.0 / 1.5).unwrap();
+        let sin_t = t.x / t.length();
+        assert!((sin_t - (45f32.to_radians().sin() / 1.5)).abs() < 1e-6, "{sin_t}");
+        assert!((t.length() - 1.0).abs() < 1e-6);
+        // Leaving glass at 60 degrees: total internal reflection.
+        let d = Vec3::new(60f32.to_radians().sin(), -60f32.to_radians().cos(), 0.0);
+        assert!(refract(d, Vec3::Y, 1.5).is_none());
+        // Head-on passes straight through.
+        assert!((refract(Vec3::NEG_Y, Vec3::Y, 0.7).unwrap() - Vec3::NEG_Y).length() < 1e-6);
+    }
+}

@@ -1,0 +1,41 @@
+//! Materials: `material r g b Ka Kd Ks n_s T index_of_refraction`.
+
+use glam::Vec3;
+
+use super::builder::{SceneError, check_color};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    pub color: Vec3,
+    pub ka: f32,
+    pub kd: f32,
+    pub ks: f32,
+    pub ns: f32,
+    pub t: f32,
+    pub ior: f32,
+}
+
+impl Default for Material {
+    /// Matte white: ambient 0.2, diffuse 0.8, no specular, opaque.
+    fn default() -> Material {
+        Material { color: Vec3::ONE, ka: 0.2, kd: 0.8, ks: 0.0, ns: 1.0, t: 0.0, ior: 1.0 }
+    }
+}
+
+impl Material {
+    pub(crate) fn check(&self) -> Result<(), SceneError> {
+        check_color(self.color)?;
+        for (name, v) in [("Ka", self.ka), ("Kd", self.kd), ("Ks", self.ks), ("n_s", self.ns), ("T", self.t)] {
+            if !v.is_finite() {
+                return Err(SceneError::NotFinite);
+            }
+            if v < 0.0 {
+                return Err(SceneError::Invalid(format!("material {name} must not be negative, got {v}")));
+            }
+        }
+        if !(self.ior > 0.0 && self.ior.is_finite()) {
+            return Err(SceneError::Invalid(format!("index of refraction must be positive, got {}", self.ior)));
+        }
+        Ok(())
+    }
+}
