@@ -76,7 +76,8 @@ impl Bvh {
             nodes: self.nodes.len(),
             leaves: self.nodes.iter().filter(|n| n.count > 0).count(),
             depth: self.depth,
-            bytes: self.nodes.len() * std::mem::size_of::<Node>() + self.shapes.len() * std::mem::size_of::<Shape>(),
+            bytes: self.nodes.len() * std::mem::size_of::<Node>()
+                + self.shapes.len() * std::mem::size_of::<Shape>(),
         }
     }
 
@@ -137,7 +138,13 @@ impl Bvh {
     /// What reaches the end of a shadow segment: the product of `pass(prim)`
     /// over every surface crossed in `(t_min, t_max)` (zero for an opaque
     /// one, which ends the search at once).
-    pub fn transmittance(&self, ray: &Ray, t_min: f32, t_max: f32, mut pass: impl FnMut(u32) -> Vec3) -> Vec3 {
+    pub fn transmittance(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        mut pass: impl FnMut(u32) -> Vec3,
+    ) -> Vec3 {
         let mut through = Vec3::ONE;
         if self.nodes.is_empty() {
             return through;
@@ -182,12 +189,24 @@ impl Bvh {
 }
 
 fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Aabb) -> Node {
-    Node { min: bounds.min.into(), max: bounds.max.into(), offset: first as u32, count: prims.len() as u16, axis: 0 }
+    Node {
+        min: bounds.min.into(),
+        max: bounds.max.into(),
+        offset: first as u32,
+        count: prims.len() as u16,
+        axis: 0,
+    }
 }
 
 /// Builds the subtree over `prims` (which start at `first` in the final
 /// order) and appends its nodes depth-first; returns the node index.
-fn build_rec(prims: &mut [BuildPrim], first: usize, nodes: &mut Vec<Node>, level: usize, depth: &mut usize) -> usize {
+fn build_rec(
+    prims: &mut [BuildPrim],
+    first: usize,
+    nodes: &mut Vec<Node>,
+    level: usize,
+    depth: &mut usize,
+) -> usize {
     *depth = (*depth).max(level);
     let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
     let me = nodes.len();
@@ -197,7 +216,13 @@ fn build_rec(prims: &mut [BuildPrim], first: usize, nodes: &mut Vec<Node>, level
     }
     let cbounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
     let ext = cbounds.extent();
-    let axis = if ext.x >= ext.y && ext.x >= ext.z { 0 } else if ext.y >= ext.z { 1 } else { 2 };
+    let axis = if ext.x >= ext.y && ext.x >= ext.z {
+        0
+    } else if ext.y >= ext.z {
+        1
+    } else {
+        2
+    };
     let lo = cbounds.min[axis];
     let span = ext[axis];
     let mid;
@@ -235,7 +260,8 @@ fn build_rec(prims: &mut [BuildPrim], first: usize, nodes: &mut Vec<Node>, level
             if n == 0 || right_count[i + 1] == 0 {
                 continue;
             }
-            let cost = acc.surface_area() * n as f32 + right_area[i + 1] * right_count[i + 1] as f32;
+            let cost =
+                acc.surface_area() * n as f32 + right_area[i + 1] * right_count[i + 1] as f32;
             if cost < best.0 {
                 best = (cost, i);
             }
@@ -256,7 +282,13 @@ fn build_rec(prims: &mut [BuildPrim], first: usize, nodes: &mut Vec<Node>, level
         }
         mid = if i == 0 || i == prims.len() { prims.len() / 2 } else { i };
     }
-    nodes.push(Node { min: bounds.min.into(), max: bounds.max.into(), offset: 0, count: 0, axis: axis as u16 });
+    nodes.push(Node {
+        min: bounds.min.into(),
+        max: bounds.max.into(),
+        offset: 0,
+        count: 0,
+        axis: axis as u16,
+    });
     let (left, right) = prims.split_at_mut(mid);
     build_rec(left, first, nodes, level + 1, depth);
     let second = build_rec(right, first + mid, nodes, level + 1, depth);

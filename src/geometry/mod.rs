@@ -10,4 +10,6 @@ mod shapes;
 pub use aabb::Aabb;
 pub use bvh::{Bvh, BvhStats};
 pub use ray::Ray;
-pub use shapes::{Hit, RayPre, Shape, Triangle, intersect_sphere, intersect_triangle, intersect_triangle_f64};
+pub use shapes::{
+    Hit, RayPre, Shape, Triangle, intersect_sphere, intersect_triangle, intersect_triangle_f64,
+};

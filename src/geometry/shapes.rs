@@ -48,7 +48,13 @@ impl Shape {
     }
 
     #[inline]
-    pub fn intersect(&self, ray: &Ray, pre: &RayPre, t_min: f32, t_max: f32) -> Option<(f32, [f32; 2])> {
+    pub fn intersect(
+        &self,
+        ray: &Ray,
+        pre: &RayPre,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<(f32, [f32; 2])> {
         match self {
             Shape::Triangle(t) => intersect_triangle_pre(t, ray, pre, t_min, t_max),
             Shape::Sphere { center, radius, .. } => {
@@ -77,19 +83,34 @@ pub struct RayPre {
 impl RayPre {
     pub fn new(dir: Vec3) -> RayPre {
         let a = dir.abs();
-        let kz = if a.x > a.y { if a.x > a.z { 0 } else { 2 } } else if a.y > a.z { 1 } else { 2 };
+        let kz = if a.x > a.y {
+            if a.x > a.z { 0 } else { 2 }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
         let mut kx = (kz + 1) % 3;
         let mut ky = (kx + 1) % 3;
         if dir[kz] < 0.0 {
             std::mem::swap(&mut kx, &mut ky);
         }
-        RayPre { k: [kx, ky, kz], s: Vec3::new(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]) }
+        RayPre {
+            k: [kx, ky, kz],
+            s: Vec3::new(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]),
+        }
     }
 }
 
 /// Ray-sphere: the nearest root in `(t_min, t_max)`, computed in the
 /// cancellation-free form of Ray Tracing Gems, chapter 7.
-pub fn intersect_sphere(ray: &Ray, center: Vec3, radius: f32, t_min: f32, t_max: f32) -> Option<f32> {
+pub fn intersect_sphere(
+    ray: &Ray,
+    center: Vec3,
+    radius: f32,
+    t_min: f32,
+    t_max: f32,
+) -> Option<f32> {
     let f = ray.origin - center;
     let a = ray.dir.length_squared();
     let b = -f.dot(ray.dir);
@@ -116,12 +137,23 @@ pub fn intersect_sphere(ray: &Ray, center: Vec3, radius: f32, t_min: f32, t_max:
 
 /// Watertight ray-triangle test; returns `t` and the barycentric weights
 /// of vertices 1 and 2.
-pub fn intersect_triangle(ray: &Ray, tri: &Triangle, t_min: f32, t_max: f32) -> Option<(f32, [f32; 2])> {
+pub fn intersect_triangle(
+    ray: &Ray,
+    tri: &Triangle,
+    t_min: f32,
+    t_max: f32,
+) -> Option<(f32, [f32; 2])> {
     intersect_triangle_pre(tri, ray, &RayPre::new(ray.dir), t_min, t_max)
 }
 
 #[inline]
-fn intersect_triangle_pre(tri: &Triangle, ray: &Ray, pre: &RayPre, t_min: f32, t_max: f32) -> Option<(f32, [f32; 2])> {
+fn intersect_triangle_pre(
+    tri: &Triangle,
+    ray: &Ray,
+    pre: &RayPre,
+    t_min: f32,
+    t_max: f32,
+) -> Option<(f32, [f32; 2])> {
     let [kx, ky, kz] = pre.k;
     let a = tri.p[0] - ray.origin;
     let b = tri.p[1] - ray.origin;
@@ -134,7 +166,9 @@ fn intersect_triangle_pre(tri: &Triangle, ray: &Ray, pre: &RayPre, t_min: f32, t
     let mut w = bx * ay - by * ax;
     if u == 0.0 || v == 0.0 || w == 0.0 {
         // On an edge in single precision: decide it in double precision.
-        let d = |x1: f32, y1: f32, x2: f32, y2: f32| (x1 as f64 * y2 as f64 - y1 as f64 * x2 as f64) as f32;
+        let d = |x1: f32, y1: f32, x2: f32, y2: f32| {
+            (x1 as f64 * y2 as f64 - y1 as f64 * x2 as f64) as f32
+        };
         u = d(cx, cy, bx, by);
         v = d(ax, ay, cx, cy);
         w = d(bx, by, ax, ay);

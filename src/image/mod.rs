@@ -47,7 +47,11 @@ fn to_byte(v: f32, enc: Encoding) -> u8 {
     let v = match enc {
         Encoding::Linear => v,
         Encoding::Srgb => {
-            if v <= 0.0031308 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 }
+            if v <= 0.0031308 {
+                12.92 * v
+            } else {
+                1.055 * v.powf(1.0 / 2.4) - 0.055
+            }
         }
     };
     (v * 255.0 + 0.5) as u8

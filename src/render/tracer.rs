@@ -1,7 +1,11 @@
 //! The Whitted tracer. Shading (per the COS 426 rayshell):
+//!
+//! ```text
 //!   Ka·ambient·colour
 //! + Σ lights a shadow ray reaches: [Kd·colour·light·max(0, N·L) + Ks·light·max(0, R·V)^n_s]
-//! + Ks·(reflected ray) + T·(transmitted ray, Snell's law, total internal reflection).
+//! + Ks·(reflected ray) + T·(transmitted ray, Snell's law, total internal reflection)
+//! ```
+//!
 //! Shadow rays pass through transmitting surfaces, tinted by T·colour at
 //! each surface crossed. Secondary rays start from a point offset along the
 //! geometric normal by an amount relative to the point's magnitude.

@@ -34,7 +34,9 @@ impl std::fmt::Display for SceneError {
             SceneError::NotFinite => write!(f, "numbers must be finite (not NaN or infinite)"),
             SceneError::Capacity { what } => write!(f, "too many {what}: the limit is 2^32"),
             SceneError::ZeroVector { what } => write!(f, "{what} must not be the zero vector"),
-            SceneError::UpParallel => write!(f, "camera up vector is parallel to the view direction"),
+            SceneError::UpParallel => {
+                write!(f, "camera up vector is parallel to the view direction")
+            }
             SceneError::Invalid(s) => f.write_str(s),
         }
     }
@@ -153,7 +155,9 @@ impl Builder {
 
     pub fn camera_resolution(&mut self, w: i64, h: i64) -> Result<(), SceneError> {
         if w < 1 || h < 1 {
-            return Err(SceneError::Invalid(format!("resolution must be at least 1x1, got {w}x{h}")));
+            return Err(SceneError::Invalid(format!(
+                "resolution must be at least 1x1, got {w}x{h}"
+            )));
         }
         let pixels = (w as u64).saturating_mul(h as u64);
         if pixels > MAX_PIXELS || w > u32::MAX as i64 || h > u32::MAX as i64 {
@@ -175,7 +179,9 @@ impl Builder {
             Aim::Forward(d) => d,
         };
         if forward.length_squared() == 0.0 {
-            return Err(SceneError::Invalid("camera_target is the same point as camera_from".into()));
+            return Err(SceneError::Invalid(
+                "camera_target is the same point as camera_from".into(),
+            ));
         }
         Camera::new(self.from, forward, self.up, self.angle, self.width, self.height)
             .ok_or(SceneError::UpParallel)
@@ -211,14 +217,22 @@ impl Builder {
 
     fn vertex_at(&self, i: i64) -> Result<Vec3, SceneError> {
         if i < 0 || i as usize >= self.vertices.len() {
-            return Err(SceneError::IndexOutOfRange { pool: "vertex", index: i, size: self.vertices.len() });
+            return Err(SceneError::IndexOutOfRange {
+                pool: "vertex",
+                index: i,
+                size: self.vertices.len(),
+            });
         }
         Ok(self.vertices[i as usize])
     }
 
     fn normal_index(&self, i: i64) -> Result<u32, SceneError> {
         if i < 0 || i as usize >= self.normals.len() {
-            return Err(SceneError::IndexOutOfRange { pool: "normal", index: i, size: self.normals.len() });
+            return Err(SceneError::IndexOutOfRange {
+                pool: "normal",
+                index: i,
+                size: self.normals.len(),
+            });
         }
         Ok(i as u32)
     }
@@ -226,7 +240,9 @@ impl Builder {
     fn push_triangle(&mut self, p: [Vec3; 3], normals: [u32; 3]) -> bool {
         let t = Triangle { p, normals, material: self.material_index() };
         let n = t.cross();
-        if !(n.length_squared() > 0.0) || !n.is_finite() {
+        if n.length_squared().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+            || !n.is_finite()
+        {
             self.degenerate += 1;
             return false;
         }
@@ -255,7 +271,9 @@ impl Builder {
     pub fn sphere(&mut self, center: Vec3, radius: f32) -> Result<(), SceneError> {
         let center = finite(center)?;
         if !(radius > 0.0 && radius.is_finite()) {
-            return Err(SceneError::Invalid(format!("sphere radius must be positive, got {radius}")));
+            return Err(SceneError::Invalid(format!(
+                "sphere radius must be positive, got {radius}"
+            )));
         }
         self.shapes.push(Shape::Sphere { center, radius, material: self.material_index() });
         Ok(())

@@ -18,7 +18,14 @@ pub struct Camera {
 
 impl Camera {
     /// `None` when `up` is parallel to `forward`.
-    pub fn new(from: Vec3, forward: Vec3, up: Vec3, angle_deg: f32, width: u32, height: u32) -> Option<Camera> {
+    pub fn new(
+        from: Vec3,
+        forward: Vec3,
+        up: Vec3,
+        angle_deg: f32,
+        width: u32,
+        height: u32,
+    ) -> Option<Camera> {
         let forward = forward.normalize();
         let right = forward.cross(up);
         if right.length_squared() < 1e-12 * up.length_squared() {
@@ -45,7 +52,15 @@ mod tests {
 
     #[test]
     fn centre_pixel_looks_forward() {
-        let c = Camera::new(Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.0, 0.0, -2.0), Vec3::Y, 60.0, 101, 51).unwrap();
+        let c = Camera::new(
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(0.0, 0.0, -2.0),
+            Vec3::Y,
+            60.0,
+            101,
+            51,
+        )
+        .unwrap();
         let r = c.ray(50, 25);
         assert!((r.dir - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
         assert_eq!(r.origin, Vec3::new(1.0, 2.0, 3.0));

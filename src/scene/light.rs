@@ -7,24 +7,48 @@ use super::builder::{SceneError, check_color, check_nonzero};
 #[derive(Clone, Copy, Debug)]
 pub enum Light {
     /// `dir` is the direction the light travels (unit length).
-    Parallel { color: Vec3, dir: Vec3 },
-    Point { color: Vec3, pos: Vec3 },
+    Parallel {
+        color: Vec3,
+        dir: Vec3,
+    },
+    Point {
+        color: Vec3,
+        pos: Vec3,
+    },
     /// Full strength within `inner` of the axis, fading linearly to zero at
     /// `outer` (both as cosines).
-    Spot { color: Vec3, pos: Vec3, dir: Vec3, cos_inner: f32, cos_outer: f32 },
+    Spot {
+        color: Vec3,
+        pos: Vec3,
+        dir: Vec3,
+        cos_inner: f32,
+        cos_outer: f32,
+    },
 }
 
 impl Light {
     pub fn parallel(color: Vec3, dir: Vec3) -> Result<Light, SceneError> {
-        Ok(Light::Parallel { color: check_color(color)?, dir: check_nonzero(dir, "light direction")?.normalize() })
+        Ok(Light::Parallel {
+            color: check_color(color)?,
+            dir: check_nonzero(dir, "light direction")?.normalize(),
+        })
     }
 
     pub fn point(color: Vec3, pos: Vec3) -> Result<Light, SceneError> {
         Ok(Light::Point { color: check_color(color)?, pos })
     }
 
-    pub fn spot(color: Vec3, pos: Vec3, dir: Vec3, inner_deg: f32, outer_deg: f32) -> Result<Light, SceneError> {
-        if !(0.0..=180.0).contains(&inner_deg) || !(0.0..=180.0).contains(&outer_deg) || inner_deg > outer_deg {
+    pub fn spot(
+        color: Vec3,
+        pos: Vec3,
+        dir: Vec3,
+        inner_deg: f32,
+        outer_deg: f32,
+    ) -> Result<Light, SceneError> {
+        if !(0.0..=180.0).contains(&inner_deg)
+            || !(0.0..=180.0).contains(&outer_deg)
+            || inner_deg > outer_deg
+        {
             return Err(SceneError::Invalid(format!(
                 "spot light angles must satisfy 0 <= angle1 <= angle2 <= 180, got {inner_deg} and {outer_deg}"
             )));
@@ -42,7 +66,9 @@ impl Light {
         let ok = match self {
             Light::Parallel { color, dir } => color.is_finite() && dir.is_finite(),
             Light::Point { color, pos } => color.is_finite() && pos.is_finite(),
-            Light::Spot { color, pos, dir, .. } => color.is_finite() && pos.is_finite() && dir.is_finite(),
+            Light::Spot { color, pos, dir, .. } => {
+                color.is_finite() && pos.is_finite() && dir.is_finite()
+            }
         };
         if ok { Ok(()) } else { Err(SceneError::NotFinite) }
     }

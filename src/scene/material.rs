@@ -25,16 +25,23 @@ impl Default for Material {
 impl Material {
     pub(crate) fn check(&self) -> Result<(), SceneError> {
         check_color(self.color)?;
-        for (name, v) in [("Ka", self.ka), ("Kd", self.kd), ("Ks", self.ks), ("n_s", self.ns), ("T", self.t)] {
+        for (name, v) in
+            [("Ka", self.ka), ("Kd", self.kd), ("Ks", self.ks), ("n_s", self.ns), ("T", self.t)]
+        {
             if !v.is_finite() {
                 return Err(SceneError::NotFinite);
             }
             if v < 0.0 {
-                return Err(SceneError::Invalid(format!("material {name} must not be negative, got {v}")));
+                return Err(SceneError::Invalid(format!(
+                    "material {name} must not be negative, got {v}"
+                )));
             }
         }
         if !(self.ior > 0.0 && self.ior.is_finite()) {
-            return Err(SceneError::Invalid(format!("index of refraction must be positive, got {}", self.ior)));
+            return Err(SceneError::Invalid(format!(
+                "index of refraction must be positive, got {}",
+                self.ior
+            )));
         }
         Ok(())
     }

@@ -4,12 +4,12 @@
 
 mod builder;
 mod camera;
+mod frozen;
 mod light;
 mod material;
-mod scene;
 
 pub use builder::{Aim, Builder, MAX_PIXELS, MAX_TRACE_DEPTH, SceneError};
 pub use camera::Camera;
+pub use frozen::Scene;
 pub use light::{Light, spot_factor};
 pub use material::Material;
-pub use scene::Scene;

@@ -20,6 +20,10 @@ pub struct Cli {
     /// Run this script text instead of a file.
     #[arg(short = 'c', long = "command", value_name = "SCRIPT", conflicts_with = "script")]
     pub command: Option<String>,
+    /// Render with N threads (default: all cores). The picture is the same
+    /// for any N.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub threads: Option<u16>,
     /// Arguments for the script, after `--` (`$argv`, `$argc`).
     #[arg(last = true)]
     pub args: Vec<String>,

@@ -21,7 +21,10 @@ fn scene_err(e: SceneError) -> Exception {
 fn finite(n: Num) -> Result<f32, Exception> {
     let x = n.to_f64();
     if !x.is_finite() {
-        return Err(Exception::error(format!("expected a finite number but got \"{}\"", format_double(x))));
+        return Err(Exception::error(format!(
+            "expected a finite number but got \"{}\"",
+            format_double(x)
+        )));
     }
     if x.abs() > f32::MAX as f64 {
         return Err(Exception::error(format!("number {} is too large", format_double(x))));
@@ -36,7 +39,9 @@ fn vec3(a: &[Num]) -> Result<Vec3, Exception> {
 fn int(n: Num) -> Result<i64, Exception> {
     match n {
         Num::Int(i) => Ok(i),
-        Num::Double(d) => Err(Exception::error(format!("expected integer but got \"{}\"", format_double(d)))),
+        Num::Double(d) => {
+            Err(Exception::error(format!("expected integer but got \"{}\"", format_double(d))))
+        }
     }
 }
 
@@ -63,72 +68,156 @@ pub fn register(interp: &mut Interp, scene: Shared) {
         b.camera_from(vec3(a)?).map_err(e)?;
         Ok(None)
     });
-    numeric(interp, &scene, "camera_target", "x y z", "the point the camera looks at", move |b, a| {
-        b.camera_target(vec3(a)?).map_err(e)?;
-        Ok(None)
-    });
-    numeric(interp, &scene, "camera_forw", "x y z", "the direction the camera looks along", move |b, a| {
-        b.camera_forward(vec3(a)?).map_err(e)?;
-        Ok(None)
-    });
+    numeric(
+        interp,
+        &scene,
+        "camera_target",
+        "x y z",
+        "the point the camera looks at",
+        move |b, a| {
+            b.camera_target(vec3(a)?).map_err(e)?;
+            Ok(None)
+        },
+    );
+    numeric(
+        interp,
+        &scene,
+        "camera_forw",
+        "x y z",
+        "the direction the camera looks along",
+        move |b, a| {
+            b.camera_forward(vec3(a)?).map_err(e)?;
+            Ok(None)
+        },
+    );
     numeric(interp, &scene, "camera_up", "x y z", "the camera's up direction", move |b, a| {
         b.camera_up(vec3(a)?).map_err(e)?;
         Ok(None)
     });
-    numeric(interp, &scene, "camera_angle", "theta", "field of view in degrees, left edge to right edge", move |b, a| {
-        b.camera_angle(finite(a[0])?).map_err(e)?;
-        Ok(None)
-    });
-    numeric(interp, &scene, "camera_resolution", "width height", "image size in pixels", move |b, a| {
-        b.camera_resolution(int(a[0])?, int(a[1])?).map_err(e)?;
-        Ok(None)
-    });
-    numeric(interp, &scene, "max_vertices", "n", "capacity hint for the vertex pool", move |b, a| {
-        b.reserve_vertices(int(a[0])?);
-        Ok(None)
-    });
-    numeric(interp, &scene, "max_normals", "n", "capacity hint for the normal pool", move |b, a| {
-        b.reserve_normals(int(a[0])?);
-        Ok(None)
-    });
+    numeric(
+        interp,
+        &scene,
+        "camera_angle",
+        "theta",
+        "field of view in degrees, left edge to right edge",
+        move |b, a| {
+            b.camera_angle(finite(a[0])?).map_err(e)?;
+            Ok(None)
+        },
+    );
+    numeric(
+        interp,
+        &scene,
+        "camera_resolution",
+        "width height",
+        "image size in pixels",
+        move |b, a| {
+            b.camera_resolution(int(a[0])?, int(a[1])?).map_err(e)?;
+            Ok(None)
+        },
+    );
+    numeric(
+        interp,
+        &scene,
+        "max_vertices",
+        "n",
+        "capacity hint for the vertex pool",
+        move |b, a| {
+            b.reserve_vertices(int(a[0])?);
+            Ok(None)
+        },
+    );
+    numeric(
+        interp,
+        &scene,
+        "max_normals",
+        "n",
+        "capacity hint for the normal pool",
+        move |b, a| {
+            b.reserve_normals(int(a[0])?);
+            Ok(None)
+        },
+    );
     numeric(interp, &scene, "vertex", "x y z", "add a vertex; returns its index", move |b, a| {
         Ok(Some(Num::Int(b.vertex(vec3(a)?).map_err(e)? as i64)))
     });
     numeric(interp, &scene, "normal", "x y z", "add a normal; returns its index", move |b, a| {
         Ok(Some(Num::Int(b.normal(vec3(a)?).map_err(e)? as i64)))
     });
-    numeric(interp, &scene, "tri", "v1 v2 v3", "add a flat triangle (vertex indices, counter-clockwise)", move |b, a| {
-        b.tri([int(a[0])?, int(a[1])?, int(a[2])?]).map_err(e)?;
-        Ok(None)
-    });
-    numeric(interp, &scene, "ntri", "v1 n1 v2 n2 v3 n3", "add a smooth triangle (vertex and normal indices)", move |b, a| {
-        let mut vn = [(0, 0); 3];
-        for (k, slot) in vn.iter_mut().enumerate() {
-            *slot = (int(a[2 * k])?, int(a[2 * k + 1])?);
-        }
-        b.ntri(vn).map_err(e)?;
-        Ok(None)
-    });
+    numeric(
+        interp,
+        &scene,
+        "tri",
+        "v1 v2 v3",
+        "add a flat triangle (vertex indices, counter-clockwise)",
+        move |b, a| {
+            b.tri([int(a[0])?, int(a[1])?, int(a[2])?]).map_err(e)?;
+            Ok(None)
+        },
+    );
+    numeric(
+        interp,
+        &scene,
+        "ntri",
+        "v1 n1 v2 n2 v3 n3",
+        "add a smooth triangle (vertex and normal indices)",
+        move |b, a| {
+            let mut vn = [(0, 0); 3];
+            for (k, slot) in vn.iter_mut().enumerate() {
+                *slot = (int(a[2 * k])?, int(a[2 * k + 1])?);
+            }
+            b.ntri(vn).map_err(e)?;
+            Ok(None)
+        },
+    );
     numeric(interp, &scene, "sphere", "x y z radius", "add a sphere", move |b, a| {
         b.sphere(vec3(a)?, finite(a[3])?).map_err(e)?;
         Ok(None)
     });
-    numeric(interp, &scene, "background", "r g b", "the colour of rays that hit nothing", move |b, a| {
-        b.set_background(vec3(a)?).map_err(e)?;
-        Ok(None)
-    });
-    numeric(interp, &scene, "ambient_light", "r g b", "the ambient light (a later call replaces it)", move |b, a| {
-        b.set_ambient(vec3(a)?).map_err(e)?;
-        Ok(None)
-    });
-    numeric(interp, &scene, "parallel_light", "r g b x y z", "a light infinitely far away, travelling along (x, y, z)", move |b, a| {
-        b.add_light(Light::parallel(vec3(a)?, vec3(&a[3..])?).map_err(e)?).map_err(e)?;
-        Ok(None)
-    });
-    numeric(interp, &scene, "point_light", "r g b x y z", "a light at (x, y, z), falling off as 1/r^2", move |b, a| {
-        b.add_light(Light::point(vec3(a)?, vec3(&a[3..])?).map_err(e)?).map_err(e)?;
-        Ok(None)
-    });
+    numeric(
+        interp,
+        &scene,
+        "background",
+        "r g b",
+        "the colour of rays that hit nothing",
+        move |b, a| {
+            b.set_background(vec3(a)?).map_err(e)?;
+            Ok(None)
+        },
+    );
+    numeric(
+        interp,
+        &scene,
+        "ambient_light",
+        "r g b",
+        "the ambient light (a later call replaces it)",
+        move |b, a| {
+            b.set_ambient(vec3(a)?).map_err(e)?;
+            Ok(None)
+        },
+    );
+    numeric(
+        interp,
+        &scene,
+        "parallel_light",
+        "r g b x y z",
+        "a light infinitely far away, travelling along (x, y, z)",
+        move |b, a| {
+            b.add_light(Light::parallel(vec3(a)?, vec3(&a[3..])?).map_err(e)?).map_err(e)?;
+            Ok(None)
+        },
+    );
+    numeric(
+        interp,
+        &scene,
+        "point_light",
+        "r g b x y z",
+        "a light at (x, y, z), falling off as 1/r^2",
+        move |b, a| {
+            b.add_light(Light::point(vec3(a)?, vec3(&a[3..])?).map_err(e)?).map_err(e)?;
+            Ok(None)
+        },
+    );
     numeric(
         interp,
         &scene,
@@ -136,7 +225,14 @@ pub fn register(interp: &mut Interp, scene: Shared) {
         "r g b px py pz nx ny nz angle1 angle2",
         "a spot light at p shining along n: full within angle1, fading to nothing at angle2 (degrees)",
         move |b, a| {
-            let l = Light::spot(vec3(a)?, vec3(&a[3..])?, vec3(&a[6..])?, finite(a[9])?, finite(a[10])?).map_err(e)?;
+            let l = Light::spot(
+                vec3(a)?,
+                vec3(&a[3..])?,
+                vec3(&a[6..])?,
+                finite(a[9])?,
+                finite(a[10])?,
+            )
+            .map_err(e)?;
             b.add_light(l).map_err(e)?;
             Ok(None)
         },
@@ -166,15 +262,23 @@ pub fn register(interp: &mut Interp, scene: Shared) {
         Ok(None)
     });
     let s = scene.clone();
-    interp.register_host("clear_scene", "", "reset the scene (camera, geometry, lights, materials) to the defaults", move |_, argv| {
-        check_args(argv, 1, 1, "")?;
-        s.borrow_mut().clear();
-        Ok(Value::empty())
-    });
+    interp.register_host(
+        "clear_scene",
+        "",
+        "reset the scene (camera, geometry, lights, materials) to the defaults",
+        move |_, argv| {
+            check_args(argv, 1, 1, "")?;
+            s.borrow_mut().clear();
+            Ok(Value::empty())
+        },
+    );
     let s = scene;
-    interp.register_host("render", "?-srgb? fileName", "trace the scene and write it (.ppm or .png)", move |interp, argv| {
-        render_command(interp, &s.borrow(), argv)
-    });
+    interp.register_host(
+        "render",
+        "?-srgb? fileName",
+        "trace the scene and write it (.ppm or .png)",
+        move |interp, argv| render_command(interp, &s.borrow(), argv),
+    );
 }
 
 fn render_command(interp: &mut Interp, b: &Builder, argv: &[Value]) -> Result<Value, Exception> {
@@ -188,14 +292,21 @@ fn render_command(interp: &mut Interp, b: &Builder, argv: &[Value]) -> Result<Va
     }
     let path = argv[argv.len() - 1].as_str();
     let format = Format::from_path(path).ok_or_else(|| {
-        Exception::error(format!("unknown image format for \"{path}\": the name must end in .ppm or .png"))
+        Exception::error(format!(
+            "unknown image format for \"{path}\": the name must end in .ppm or .png"
+        ))
     })?;
+    let write_err = |err: std::io::Error| {
+        Exception::error(format!("couldn't write \"{path}\": {}", super::io_reason(&err)))
+    };
     let scene = Scene::freeze(b).map_err(scene_err)?;
+    // Open the output before the work, so a bad path fails at once.
+    let mut out = super::AtomicFile::create(path).map_err(write_err)?;
     for w in scene.warnings(b) {
         interp.write_stderr(&format!("warning: {w}\n"))?;
     }
     let (img, _stats) = render::render(&scene);
-    super::write_atomic(path, |w| img.write(w, format, enc))
-        .map_err(|err| Exception::error(format!("couldn't write \"{path}\": {}", super::io_reason(&err))))?;
+    img.write(out.writer(), format, enc).map_err(write_err)?;
+    out.commit().map_err(write_err)?;
     Ok(Value::empty())
 }

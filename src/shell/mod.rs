@@ -98,12 +98,25 @@ pub fn read_text(path: &str) -> std::io::Result<String> {
     })
 }
 
+/// An interpreter with the rayshell commands, and the scene they change.
+pub struct Session {
+    pub interp: Interp,
+    pub scene: Rc<RefCell<crate::scene::Builder>>,
+}
+
+impl Session {
+    pub fn new(host: Box<dyn Host>) -> Session {
+        let mut interp = Interp::new(host);
+        register_shell_commands(&mut interp);
+        let scene = Rc::new(RefCell::new(crate::scene::Builder::new()));
+        commands::register(&mut interp, scene.clone());
+        Session { interp, scene }
+    }
+}
+
 /// A new interpreter with the rayshell commands registered.
 pub fn new_interp(host: Box<dyn Host>) -> Interp {
-    let mut interp = Interp::new(host);
-    register_shell_commands(&mut interp);
-    commands::register(&mut interp, Rc::new(RefCell::new(crate::scene::Builder::new())));
-    interp
+    Session::new(host).interp
 }
 
 fn register_shell_commands(interp: &mut Interp) {
@@ -194,6 +207,12 @@ pub fn main() -> ExitCode {
         Ok(c) => c,
         Err(code) => return ExitCode::from(code),
     };
+    if let Some(n) = cli.threads
+        && let Err(e) = rayon::ThreadPoolBuilder::new().num_threads(n as usize).build_global()
+    {
+        eprintln!("raytrace: cannot set up {n} threads: {e}");
+        return ExitCode::from(2);
+    }
     // The interpreter runs on a thread with a large stack (see above).
     let code = match on_big_stack(move || run(cli)) {
         Ok(code) => code,
@@ -238,31 +257,49 @@ fn run(cli: Cli) -> i32 {
     }
 }
 
-/// Writes a file atomically: into a temporary name in the same directory,
-/// then renamed over the final name, so no reader ever sees half a file.
-pub fn write_atomic(
-    path: &str,
-    f: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
-) -> std::io::Result<()> {
-    let p = std::path::Path::new(path);
-    let name = p.file_name().ok_or_else(|| std::io::Error::other("not a file name"))?;
-    let dir = match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-    let result = (|| {
+/// A file written atomically: into a temporary name in the same directory,
+/// renamed over the final name by `commit`, so no reader ever sees half a
+/// file. Dropped without `commit`, it removes the temporary file.
+pub struct AtomicFile {
+    tmp: std::path::PathBuf,
+    path: std::path::PathBuf,
+    file: Option<std::io::BufWriter<std::fs::File>>,
+}
+
+impl AtomicFile {
+    /// Creates the temporary file now, so an unwritable path fails early.
+    pub fn create(path: &str) -> std::io::Result<AtomicFile> {
+        let p = std::path::Path::new(path);
+        let name = p.file_name().ok_or_else(|| std::io::Error::other("not a file name"))?;
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => std::path::PathBuf::from("."),
+        };
+        let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
         let file = std::fs::File::create(&tmp)?;
-        let mut w = std::io::BufWriter::new(file);
-        f(&mut w)?;
+        Ok(AtomicFile { tmp, path: p.to_path_buf(), file: Some(std::io::BufWriter::new(file)) })
+    }
+
+    pub fn writer(&mut self) -> &mut std::io::BufWriter<std::fs::File> {
+        self.file.as_mut().expect("not committed yet")
+    }
+
+    /// Flushes, syncs and renames the file into place.
+    pub fn commit(mut self) -> std::io::Result<()> {
+        let w = self.file.take().expect("committed once");
         let file = w.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
-        std::fs::rename(&tmp, p)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+        std::fs::rename(&self.tmp, &self.path)
     }
-    result
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.file.is_some() || self.tmp.exists() {
+            self.file = None;
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
 }
 
 pub fn io_reason(e: &std::io::Error) -> String {

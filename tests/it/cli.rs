@@ -62,3 +62,24 @@ fn no_panic_on_garbage() {
     assert_eq!(out.status.code(), Some(1));
     assert!(text(&out.stderr).contains("missing close-brace"));
 }
+
+/// Every input that once crashed (found by fuzzing, kept in tests/regress)
+/// now ends with a Tcl error or success, never a panic.
+#[test]
+fn regressions_do_not_crash() {
+    let dir = crate::util::root().join("tests/regress");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).expect("tests/regress") {
+        let path = entry.unwrap().path();
+        let out = crate::util::raytrace().arg(&path).output().unwrap();
+        assert!(
+            matches!(out.status.code(), Some(0 | 1)),
+            "{}: exit {:?}\n{}",
+            path.display(),
+            out.status.code(),
+            text(&out.stderr)
+        );
+        n += 1;
+    }
+    assert!(n > 0);
+}

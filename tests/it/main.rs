@@ -2,4 +2,5 @@
 
 mod cli;
 mod lang;
+mod render;
 mod util;

@@ -14,7 +14,11 @@ fn random_scene(n: usize, seed: &mut u64) -> Vec<Shape> {
                 Shape::Sphere { center: c, radius: 0.05 + lcg(seed) * 0.3, material: 0 }
             } else {
                 let d = |s: &mut u64| Vec3::new(lcg(s), lcg(s), lcg(s)) - 0.5;
-                Shape::Triangle(Triangle { p: [c, c + d(seed), c + d(seed)], normals: [Triangle::FLAT; 3], material: 0 })
+                Shape::Triangle(Triangle {
+                    p: [c, c + d(seed), c + d(seed)],
+                    normals: [Triangle::FLAT; 3],
+                    material: 0,
+                })
             }
         })
         .collect()
@@ -22,7 +26,10 @@ fn random_scene(n: usize, seed: &mut u64) -> Vec<Shape> {
 
 fn brute(shapes: &[Shape], ray: &Ray) -> Option<f32> {
     let pre = RayPre::new(ray.dir);
-    shapes.iter().filter_map(|s| s.intersect(ray, &pre, 0.0, f32::INFINITY).map(|h| h.0)).reduce(f32::min)
+    shapes
+        .iter()
+        .filter_map(|s| s.intersect(ray, &pre, 0.0, f32::INFINITY).map(|h| h.0))
+        .reduce(f32::min)
 }
 
 #[test]

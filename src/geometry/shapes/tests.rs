@@ -1,7 +1,11 @@
 use super::*;
 
 fn tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> Triangle {
-    Triangle { p: [Vec3::from(a), Vec3::from(b), Vec3::from(c)], normals: [Triangle::FLAT; 3], material: 0 }
+    Triangle {
+        p: [Vec3::from(a), Vec3::from(b), Vec3::from(c)],
+        normals: [Triangle::FLAT; 3],
+        material: 0,
+    }
 }
 
 #[test]

@@ -552,7 +552,7 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
             0 => Ok(Value::from_int(interp.level() as i64)),
             1 => {
                 let n = args[0].as_int()?;
-                let spec = if n > 0 { format!("#{n}") } else { (-n).to_string() };
+                let spec = if n > 0 { format!("#{n}") } else { n.unsigned_abs().to_string() };
                 let f = interp
                     .resolve_level(&spec)
                     .map_err(|_| Exception::error(format!("bad level \"{}\"", args[0].as_str())))?;

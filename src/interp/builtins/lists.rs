@@ -92,7 +92,7 @@ fn cmd_linsert(_: &mut Interp, argv: &[Value]) -> TclResult {
     let len = items.len();
     let mut at = parse_index(&argv[2], len)?;
     if argv[2].as_str().trim().starts_with("end") {
-        at += 1;
+        at = at.saturating_add(1);
     }
     let at = at.clamp(0, len as i64) as usize;
     check_len(len + argv.len())?;

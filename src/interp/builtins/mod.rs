@@ -56,11 +56,10 @@ pub(crate) fn parse_index(v: &Value, len: usize) -> Result<i64, Exception> {
         if rest.is_empty() {
             return Ok(end);
         }
-        let (sign, num) = rest.split_at(1);
-        let n = int(num).ok_or_else(bad)?;
-        return match sign {
-            "-" => Ok(end - n),
-            "+" => Ok(end + n),
+        let n = rest.get(1..).and_then(int).ok_or_else(bad)?;
+        return match rest.as_bytes()[0] {
+            b'-' => Ok(end.saturating_sub(n)),
+            b'+' => Ok(end.saturating_add(n)),
             _ => Err(bad()),
         };
     }
@@ -68,9 +67,10 @@ pub(crate) fn parse_index(v: &Value, len: usize) -> Result<i64, Exception> {
         return Ok(i);
     }
     // a+b or a-b
-    if let Some(pos) = s[1..].find(['+', '-']).map(|p| p + 1) {
+    let op = s.bytes().enumerate().skip(1).find(|(_, c)| *c == b'+' || *c == b'-');
+    if let Some((pos, c)) = op {
         let (a, b) = (int(&s[..pos]).ok_or_else(bad)?, int(&s[pos + 1..]).ok_or_else(bad)?);
-        return Ok(if &s[pos..pos + 1] == "+" { a + b } else { a - b });
+        return Ok(if c == b'+' { a.saturating_add(b) } else { a.saturating_sub(b) });
     }
     Err(bad())
 }
@@ -195,5 +195,11 @@ mod tests {
         assert_eq!(parse_index(&v("end-1"), 5).unwrap(), 3);
         assert_eq!(parse_index(&v("1+2"), 5).unwrap(), 3);
         assert!(parse_index(&v("x"), 5).is_err());
+        // Regressions found by fuzzing: no panics on odd input.
+        assert!(parse_index(&v("\u{e9}+1"), 5).is_err());
+        assert!(parse_index(&v(""), 5).is_err());
+        assert!(parse_index(&v("end\u{e9}"), 5).is_err());
+        assert_eq!(parse_index(&v("end--9223372036854775808"), 5).unwrap(), i64::MAX);
+        assert_eq!(parse_index(&v("9223372036854775807+1"), 5).unwrap(), i64::MAX);
     }
 }
