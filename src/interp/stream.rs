@@ -299,7 +299,6 @@ impl Interp {
         more_coming: bool,
     ) -> Result<usize, Exception> {
         loop {
-            drop(std::mem::take(&mut st.result));
             // Fast path: plain words become recycled values, no parse tree.
             match p.next_plain(&mut st.spans) {
                 Plain::End => return Ok(p.src().len()),
@@ -318,6 +317,8 @@ impl Interp {
                 None => return Ok(p.src().len()),
                 Some(Ok(cmd)) => {
                     st.last_num = None;
+                    // Drop the previous result first so `lappend` can grow in place.
+                    drop(std::mem::take(&mut st.result));
                     match self.eval_command(&cmd) {
                         Ok(v) => st.result = v,
                         Err(mut e) => {

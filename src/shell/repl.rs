@@ -81,7 +81,9 @@ fn history_path() -> Option<PathBuf> {
 
 /// Runs the REPL until Ctrl-D or `exit`; returns the exit code.
 pub fn run(interp: &mut Interp) -> i32 {
-    let mut rl: Editor<ShellHelper, DefaultHistory> = match Editor::new() {
+    let config =
+        rustyline::Config::builder().completion_type(rustyline::CompletionType::List).build();
+    let mut rl: Editor<ShellHelper, DefaultHistory> = match Editor::with_config(config) {
         Ok(r) => r,
         Err(e) => {
             eprintln!("raytrace: cannot start the interactive shell: {e}");

@@ -83,3 +83,18 @@ fn regressions_do_not_crash() {
     }
     assert!(n > 0);
 }
+
+#[test]
+fn source_returns_the_last_result() {
+    let dir = std::env::temp_dir().join(format!("rayshell-src-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("a.tcl"), "set x 1\nexpr {40 + 2}\n").unwrap();
+    std::fs::write(dir.join("b.tcl"), "vertex 1 2 3\nvertex 4 5 6\n").unwrap();
+    let out = crate::util::raytrace()
+        .args(["-c", "puts [source a.tcl]; puts [source b.tcl]"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(text(&out.stdout), "42\n1\n");
+    let _ = std::fs::remove_dir_all(&dir);
+}
