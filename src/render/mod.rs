@@ -4,4 +4,4 @@
 
 mod tracer;
 
-pub use tracer::{RayStats, reflect, refract, render, trace};
+pub use tracer::{RayStats, raybench, reflect, refract, render, render_heatmap, trace};

@@ -66,25 +66,120 @@ fn offset(p: Vec3) -> f32 {
     1e-4 * p.abs().max_element().max(1.0)
 }
 
+/// Tiles are squares of this many pixels on a side.
+const TILE: u32 = 16;
+
+/// Runs `f` for every pixel, in parallel over tiles; the result does not
+/// depend on the number of threads or the order tiles finish in.
+fn per_pixel<T: Send + Copy + Default>(
+    width: u32,
+    height: u32,
+    f: impl Fn(u32, u32, &mut RayStats) -> T + Sync,
+) -> (Vec<T>, RayStats) {
+    let tiles: Vec<(u32, u32)> = (0..height.div_ceil(TILE))
+        .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
+        .collect();
+    let done: Vec<(Vec<T>, RayStats)> = tiles
+        .par_iter()
+        .map(|&(x0, y0)| {
+            let mut st = RayStats::default();
+            let (x1, y1) = ((x0 + TILE).min(width), (y0 + TILE).min(height));
+            let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    out.push(f(x, y, &mut st));
+                }
+            }
+            (out, st)
+        })
+        .collect();
+    let mut pixels = vec![T::default(); width as usize * height as usize];
+    let mut stats = RayStats::default();
+    for (&(x0, y0), (tile, st)) in tiles.iter().zip(done) {
+        let tw = (x0 + TILE).min(width) - x0;
+        for (k, v) in tile.into_iter().enumerate() {
+            let (x, y) = (x0 + k as u32 % tw, y0 + k as u32 / tw);
+            pixels[(y * width + x) as usize] = v;
+        }
+        stats = stats.add(st);
+    }
+    (pixels, stats)
+}
+
 /// Renders the whole image; also returns the ray counts.
 pub fn render(scene: &Scene) -> (Image, RayStats) {
-    let (w, h) = (scene.camera.width as usize, scene.camera.height as usize);
-    let mut img = Image::new(w as u32, h as u32);
-    let stats = img
-        .pixels
-        .par_chunks_mut(w)
-        .enumerate()
-        .map(|(y, row)| {
-            let mut st = RayStats::default();
-            for (x, px) in row.iter_mut().enumerate() {
-                let ray = scene.camera.ray(x as u32, y as u32);
-                st.primary += 1;
-                *px = trace(scene, &ray, 0, 1.0, &mut st);
-            }
-            st
+    let cam = &scene.camera;
+    let (pixels, stats) = per_pixel(cam.width, cam.height, |x, y, st| {
+        st.primary += 1;
+        trace(scene, &cam.ray(x, y), 0, 1.0, st)
+    });
+    (Image { width: cam.width, height: cam.height, pixels }, stats)
+}
+
+/// The cost picture: each pixel coloured by the BVH nodes its primary ray
+/// visited, from black through blue, red and yellow to white at the most.
+pub fn render_heatmap(scene: &Scene) -> (Image, RayStats) {
+    let cam = &scene.camera;
+    let (counts, stats) = per_pixel(cam.width, cam.height, |x, y, st| {
+        st.primary += 1;
+        let (_, visited) = scene.bvh.intersect(&cam.ray(x, y), 0.0, f32::INFINITY);
+        st.nodes_visited += visited as u64;
+        visited
+    });
+    let max = counts.iter().copied().max().unwrap_or(1).max(1) as f32;
+    let ramp = [
+        Vec3::ZERO,
+        Vec3::new(0.1, 0.2, 0.9),
+        Vec3::new(0.9, 0.1, 0.1),
+        Vec3::new(1.0, 0.9, 0.1),
+        Vec3::ONE,
+    ];
+    let pixels = counts
+        .iter()
+        .map(|&c| {
+            let t = c as f32 / max * (ramp.len() - 1) as f32;
+            let i = (t as usize).min(ramp.len() - 2);
+            ramp[i].lerp(ramp[i + 1], t - i as f32)
         })
-        .reduce(RayStats::default, RayStats::add);
-    (img, stats)
+        .collect();
+    (Image { width: cam.width, height: cam.height, pixels }, stats)
+}
+
+/// Times the primary rays alone (closest hit, no shading) and then, if
+/// asked, one shadow ray per hit towards the first light (any hit).
+/// Returns (primary seconds, shadow seconds, counts).
+pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
+    let cam = &scene.camera;
+    let start = std::time::Instant::now();
+    let (hits, mut stats) = per_pixel(cam.width, cam.height, |x, y, st| {
+        st.primary += 1;
+        let ray = cam.ray(x, y);
+        let (hit, visited) = scene.bvh.intersect(&ray, 0.0, f32::INFINITY);
+        st.nodes_visited += visited as u64;
+        hit.map(|h| ray.at(h.t)).unwrap_or(Vec3::NAN)
+    });
+    let primary_s = start.elapsed().as_secs_f64();
+    let Some(light) = scene.lights.first().filter(|_| shadow) else {
+        return (primary_s, 0.0, stats);
+    };
+    let start = std::time::Instant::now();
+    let w = cam.width;
+    let (_, st2) = per_pixel(cam.width, cam.height, |x, y, st| {
+        let p = hits[(y * w + x) as usize];
+        if p.is_nan() {
+            return 0u8;
+        }
+        let (l, dist, _) = light.at(p);
+        let eps = offset(p);
+        st.shadow += 1;
+        let t_max = if dist.is_finite() { dist - 2.0 * eps } else { f32::INFINITY };
+        // Start on the light's side of the surface.
+        let origin = p + l * eps;
+        (scene.bvh.transmittance(&Ray::new(origin, l), 0.0, t_max, |_| Vec3::ZERO) == Vec3::ZERO)
+            as u8
+    });
+    stats.shadow = st2.shadow;
+    (primary_s, start.elapsed().as_secs_f64(), stats)
 }
 
 /// The colour seen along `ray`, `depth` bounces deep.

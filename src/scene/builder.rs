@@ -42,6 +42,16 @@ impl std::fmt::Display for SceneError {
     }
 }
 
+/// A triangle mesh as read from a file (indices count from 0).
+#[derive(Clone, Debug, Default)]
+pub struct MeshData {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub tris: Vec<[u32; 3]>,
+    /// Per-corner normal indices, when the file gives normals.
+    pub normal_tris: Option<Vec<[u32; 3]>>,
+}
+
 /// Where the camera looks: at a point, or along a direction.
 #[derive(Clone, Copy, Debug)]
 pub enum Aim {
@@ -277,6 +287,75 @@ impl Builder {
         }
         self.shapes.push(Shape::Sphere { center, radius, material: self.material_index() });
         Ok(())
+    }
+
+    /// Adds a triangle mesh with the current material, placed by `scale`
+    /// then `translate`. Smooth normals come from the mesh's own normals,
+    /// or are computed (area-weighted) when it has none; `flat` turns
+    /// smoothing off. Returns the number of triangles added.
+    pub fn add_mesh(
+        &mut self,
+        mesh: &MeshData,
+        scale: f32,
+        translate: Vec3,
+        flat: bool,
+    ) -> Result<usize, SceneError> {
+        let place = |p: Vec3| p * scale + translate;
+        let n_v = mesh.positions.len();
+        if let Some(bad) = mesh.tris.iter().flatten().find(|&&i| i as usize >= n_v) {
+            return Err(SceneError::IndexOutOfRange {
+                pool: "mesh vertex",
+                index: *bad as i64,
+                size: n_v,
+            });
+        }
+        if self.normals.len() + n_v >= u32::MAX as usize {
+            return Err(SceneError::Capacity { what: "normals" });
+        }
+        let positions: Vec<Vec3> = mesh.positions.iter().map(|&p| place(p)).collect();
+        if positions.iter().any(|p| !p.is_finite()) {
+            return Err(SceneError::NotFinite);
+        }
+        // Normal indices into the scene's pool, per corner.
+        let base = self.normals.len() as u32;
+        let corner_normals: Option<Vec<[u32; 3]>> = if flat {
+            None
+        } else if let (Some(nt), false) = (&mesh.normal_tris, mesh.normals.is_empty()) {
+            if let Some(bad) = nt.iter().flatten().find(|&&i| i as usize >= mesh.normals.len()) {
+                return Err(SceneError::IndexOutOfRange {
+                    pool: "mesh normal",
+                    index: *bad as i64,
+                    size: mesh.normals.len(),
+                });
+            }
+            // Mirror scaling flips normals; a uniform scale keeps directions.
+            let sign = scale.signum();
+            self.normals.extend(
+                mesh.normals.iter().map(|n| (*n * sign).try_normalize().unwrap_or(Vec3::Y)),
+            );
+            Some(nt.iter().map(|t| t.map(|i| base + i)).collect())
+        } else {
+            let mut acc = vec![Vec3::ZERO; n_v];
+            for t in &mesh.tris {
+                let n = (positions[t[1] as usize] - positions[t[0] as usize])
+                    .cross(positions[t[2] as usize] - positions[t[0] as usize]);
+                for &i in t {
+                    acc[i as usize] += n;
+                }
+            }
+            self.normals.extend(acc.iter().map(|n| n.try_normalize().unwrap_or(Vec3::Y)));
+            Some(mesh.tris.iter().map(|t| t.map(|i| base + i)).collect())
+        };
+        self.shapes.reserve(mesh.tris.len());
+        let mut added = 0;
+        for (k, t) in mesh.tris.iter().enumerate() {
+            let p = t.map(|i| positions[i as usize]);
+            let normals = corner_normals.as_ref().map(|c| c[k]).unwrap_or([Triangle::FLAT; 3]);
+            if self.push_triangle(p, normals) {
+                added += 1;
+            }
+        }
+        Ok(added)
     }
 
     // -- Lights and materials -------------------------------------------------

@@ -8,7 +8,7 @@ mod frozen;
 mod light;
 mod material;
 
-pub use builder::{Aim, Builder, MAX_PIXELS, MAX_TRACE_DEPTH, SceneError};
+pub use builder::{Aim, Builder, MAX_PIXELS, MAX_TRACE_DEPTH, MeshData, SceneError};
 pub use camera::Camera;
 pub use frozen::Scene;
 pub use light::{Light, spot_factor};

@@ -24,6 +24,9 @@ pub struct Cli {
     /// for any N.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub threads: Option<u16>,
+    /// After each render, print timings, ray counts, Mrays/s and memory to stderr.
+    #[arg(long)]
+    pub stats: bool,
     /// Arguments for the script, after `--` (`$argv`, `$argc`).
     #[arg(last = true)]
     pub args: Vec<String>,

@@ -6,6 +6,7 @@
 
 use std::cell::RefCell;
 use std::rc::Rc;
+use std::time::Instant;
 
 use glam::Vec3;
 
@@ -13,6 +14,8 @@ use crate::image::{Encoding, Format};
 use crate::interp::{Exception, Interp, Num, Value, check_args, format_double};
 use crate::render;
 use crate::scene::{Builder, Light, Material, Scene, SceneError};
+
+use super::stats::{RenderReport, ShellState};
 
 fn scene_err(e: SceneError) -> Exception {
     Exception::error(e.to_string())
@@ -61,8 +64,8 @@ fn numeric(
     interp.register_numeric(name, arity, usage, summary, move |_, a| f(&mut s.borrow_mut(), a));
 }
 
-/// Registers the scene commands, sharing one builder.
-pub fn register(interp: &mut Interp, scene: Shared) {
+/// Registers the scene commands, sharing one builder and the shell state.
+pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState>>) {
     let e = scene_err;
     numeric(interp, &scene, "camera_from", "x y z", "where the camera is", move |b, a| {
         b.camera_from(vec3(a)?).map_err(e)?;
@@ -272,22 +275,123 @@ pub fn register(interp: &mut Interp, scene: Shared) {
             Ok(Value::empty())
         },
     );
-    let s = scene;
+    let s = scene.clone();
+    interp.register_host(
+        "scene_bounds",
+        "",
+        "the bounding box of all geometry: xmin ymin zmin xmax ymax zmax",
+        move |_, argv| {
+            check_args(argv, 1, 1, "")?;
+            let b = s
+                .borrow()
+                .shapes
+                .iter()
+                .fold(crate::geometry::Aabb::EMPTY, |b, sh| b.union(sh.bounds()));
+            if b.is_empty() {
+                return Ok(Value::empty());
+            }
+            let v = [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z];
+            Ok(Value::from_list(v.iter().map(|&x| Value::from_f64(x as f64)).collect()))
+        },
+    );
+    let s = scene.clone();
+    interp.register_host(
+        "mesh",
+        "fileName ?-scale s? ?-translate x y z? ?-flat?",
+        "add an OBJ mesh with the current material; returns its triangle count",
+        move |_, argv| mesh_command(&mut s.borrow_mut(), argv),
+    );
+    let s = scene.clone();
+    let st = state.clone();
     interp.register_host(
         "render",
-        "?-srgb? fileName",
-        "trace the scene and write it (.ppm or .png)",
-        move |interp, argv| render_command(interp, &s.borrow(), argv),
+        "?-srgb? ?-heatmap? fileName",
+        "trace the scene and write it (.ppm or .png); -heatmap colours pixels by BVH nodes visited",
+        move |interp, argv| render_command(interp, &s.borrow(), &st, argv),
     );
+    let s = scene;
+    let st = state.clone();
+    interp.register_host(
+        "raybench",
+        "?-shadow?",
+        "trace the primary rays (and shadow rays to the first light) without shading; returns timings",
+        move |_, argv| raybench_command(&s.borrow(), &st, argv),
+    );
+    interp.register_host("stats", "", "statistics of the last render", move |_, argv| {
+        check_args(argv, 1, 1, "")?;
+        Ok(Value::from_string(
+            state
+                .borrow()
+                .last
+                .as_ref()
+                .map(|r| r.to_string())
+                .unwrap_or_else(|| "no render yet".into()),
+        ))
+    });
 }
 
-fn render_command(interp: &mut Interp, b: &Builder, argv: &[Value]) -> Result<Value, Exception> {
-    check_args(argv, 2, 3, "?-srgb? fileName")?;
-    let mut enc = Encoding::Linear;
-    if argv.len() == 3 {
-        match argv[1].as_str() {
+fn mesh_command(b: &mut Builder, argv: &[Value]) -> Result<Value, Exception> {
+    let usage = "mesh fileName ?-scale s? ?-translate x y z? ?-flat?";
+    if argv.len() < 2 {
+        return Err(Exception::wrong_args(usage));
+    }
+    let (mut scale, mut translate, mut flat) = (1.0f32, Vec3::ZERO, false);
+    let num = |v: &Value| -> Result<f32, Exception> {
+        finite(v.as_num().ok_or_else(|| {
+            Exception::error(format!("expected number but got \"{}\"", v.as_str()))
+        })?)
+    };
+    let mut i = 2;
+    while i < argv.len() {
+        match argv[i].as_str() {
+            "-scale" if i + 1 < argv.len() => {
+                scale = num(&argv[i + 1])?;
+                if scale == 0.0 {
+                    return Err(Exception::error("mesh -scale must not be zero"));
+                }
+                i += 2;
+            }
+            "-translate" if i + 3 < argv.len() => {
+                translate = Vec3::new(num(&argv[i + 1])?, num(&argv[i + 2])?, num(&argv[i + 3])?);
+                i += 4;
+            }
+            "-flat" => {
+                flat = true;
+                i += 1;
+            }
+            "-scale" | "-translate" => return Err(Exception::wrong_args(usage)),
+            o => {
+                return Err(Exception::error(format!(
+                    "bad option \"{o}\": must be -flat, -scale, or -translate"
+                )));
+            }
+        }
+    }
+    let data = super::obj::load(argv[1].as_str()).map_err(Exception::error)?;
+    let n = b.add_mesh(&data, scale, translate, flat).map_err(scene_err)?;
+    Ok(Value::from_int(n as i64))
+}
+
+fn render_command(
+    interp: &mut Interp,
+    b: &Builder,
+    state: &RefCell<ShellState>,
+    argv: &[Value],
+) -> Result<Value, Exception> {
+    let usage = "render ?-srgb? ?-heatmap? fileName";
+    if argv.len() < 2 {
+        return Err(Exception::wrong_args(usage));
+    }
+    let (mut enc, mut heatmap) = (Encoding::Linear, false);
+    for o in &argv[1..argv.len() - 1] {
+        match o.as_str() {
             "-srgb" => enc = Encoding::Srgb,
-            o => return Err(Exception::error(format!("bad option \"{o}\": must be -srgb"))),
+            "-heatmap" => heatmap = true,
+            o => {
+                return Err(Exception::error(format!(
+                    "bad option \"{o}\": must be -heatmap or -srgb"
+                )));
+            }
         }
     }
     let path = argv[argv.len() - 1].as_str();
@@ -299,14 +403,60 @@ fn render_command(interp: &mut Interp, b: &Builder, argv: &[Value]) -> Result<Va
     let write_err = |err: std::io::Error| {
         Exception::error(format!("couldn't write \"{path}\": {}", super::io_reason(&err)))
     };
+    let parse_seconds = state.borrow().since_last.elapsed().as_secs_f64();
     let scene = Scene::freeze(b).map_err(scene_err)?;
     // Open the output before the work, so a bad path fails at once.
     let mut out = super::AtomicFile::create(path).map_err(write_err)?;
     for w in scene.warnings(b) {
         interp.write_stderr(&format!("warning: {w}\n"))?;
     }
-    let (img, _stats) = render::render(&scene);
+    let start = Instant::now();
+    let (img, rays) = if heatmap { render::render_heatmap(&scene) } else { render::render(&scene) };
+    let render_seconds = start.elapsed().as_secs_f64();
     img.write(out.writer(), format, enc).map_err(write_err)?;
     out.commit().map_err(write_err)?;
+    let report = RenderReport::new(&scene, parse_seconds, render_seconds, rays);
+    let mut st = state.borrow_mut();
+    if st.print_stats {
+        interp.write_stderr(&format!("{report}\n"))?;
+    }
+    st.last = Some(report);
+    st.since_last = Instant::now();
     Ok(Value::empty())
+}
+
+fn raybench_command(
+    b: &Builder,
+    state: &RefCell<ShellState>,
+    argv: &[Value],
+) -> Result<Value, Exception> {
+    check_args(argv, 1, 2, "?-shadow?")?;
+    let shadow = match argv.get(1).map(|v| v.as_str()) {
+        None => false,
+        Some("-shadow") => true,
+        Some(o) => return Err(Exception::error(format!("bad option \"{o}\": must be -shadow"))),
+    };
+    let parse_seconds = state.borrow().since_last.elapsed().as_secs_f64();
+    let scene = Scene::freeze(b).map_err(scene_err)?;
+    let (primary_s, shadow_s, rays) = render::raybench(&scene, shadow);
+    let report = RenderReport::new(&scene, parse_seconds, primary_s + shadow_s, rays);
+    let n = rays.primary as f64;
+    let mut out = vec![
+        Value::from("primary_mrays_per_s"),
+        Value::from_f64(n / primary_s.max(1e-9) / 1e6),
+        Value::from("shadow_mrays_per_s"),
+        Value::from_f64(if shadow { rays.shadow as f64 / shadow_s.max(1e-9) / 1e6 } else { 0.0 }),
+        Value::from("build_ms"),
+        Value::from_f64(report.build_seconds * 1e3),
+        Value::from("primitives"),
+        Value::from_int(report.primitives as i64),
+        Value::from("bvh_nodes"),
+        Value::from_int(report.nodes as i64),
+        Value::from("bytes_per_triangle"),
+    ];
+    out.push(Value::from_f64(report.bytes_per_triangle()));
+    let mut st = state.borrow_mut();
+    st.last = Some(report);
+    st.since_last = Instant::now();
+    Ok(Value::from_list(out))
 }

@@ -7,7 +7,9 @@
 
 mod args;
 mod commands;
+mod obj;
 mod repl;
+mod stats;
 
 use std::cell::RefCell;
 use std::io::{IsTerminal, Write};
@@ -102,6 +104,7 @@ pub fn read_text(path: &str) -> std::io::Result<String> {
 pub struct Session {
     pub interp: Interp,
     pub scene: Rc<RefCell<crate::scene::Builder>>,
+    pub state: Rc<RefCell<stats::ShellState>>,
 }
 
 impl Session {
@@ -109,8 +112,9 @@ impl Session {
         let mut interp = Interp::new(host);
         register_shell_commands(&mut interp);
         let scene = Rc::new(RefCell::new(crate::scene::Builder::new()));
-        commands::register(&mut interp, scene.clone());
-        Session { interp, scene }
+        let state = Rc::new(RefCell::new(stats::ShellState::default()));
+        commands::register(&mut interp, scene.clone(), state.clone());
+        Session { interp, scene, state }
     }
 }
 
@@ -121,6 +125,15 @@ pub fn new_interp(host: Box<dyn Host>) -> Interp {
 
 fn register_shell_commands(interp: &mut Interp) {
     interp.register_host(
+        "file",
+        "subcommand name ?arg ...?",
+        "dirname, tail, join, extension, rootname, exists, readable",
+        |_, argv| {
+            crate::interp::check_args(argv, 3, usize::MAX, "subcommand name ?arg ...?")?;
+            file_command(argv)
+        },
+    );
+    interp.register_host(
         "help",
         "?command?",
         "list commands, or show one command's usage",
@@ -129,6 +142,68 @@ fn register_shell_commands(interp: &mut Interp) {
             Ok(Value::from_string(help_text(interp, argv.get(1).map(|v| v.as_str()))?))
         },
     );
+}
+
+fn file_command(argv: &[Value]) -> Result<Value, Exception> {
+    use std::path::Path;
+    let name = argv[2].as_str();
+    let one = |v: &str| -> Result<(), Exception> {
+        if argv.len() != 3 {
+            return Err(Exception::wrong_args(&format!("file {v} name")));
+        }
+        Ok(())
+    };
+    let p = Path::new(name);
+    let s = |x: Option<&std::ffi::OsStr>| {
+        x.map(|o| o.to_string_lossy().into_owned()).unwrap_or_default()
+    };
+    Ok(match argv[1].as_str() {
+        "dirname" => {
+            one("dirname")?;
+            match p.parent() {
+                Some(d) if !d.as_os_str().is_empty() => Value::from(d.to_string_lossy().as_ref()),
+                _ if name.starts_with('/') => Value::from("/"),
+                _ => Value::from("."),
+            }
+        }
+        "tail" => {
+            one("tail")?;
+            Value::from_string(s(p.file_name()))
+        }
+        "extension" => {
+            one("extension")?;
+            Value::from_string(
+                p.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default(),
+            )
+        }
+        "rootname" => {
+            one("rootname")?;
+            match p.extension() {
+                Some(e) => Value::from(&name[..name.len() - e.len() - 1]),
+                None => argv[2].clone(),
+            }
+        }
+        "join" => {
+            let mut out = std::path::PathBuf::new();
+            for part in &argv[2..] {
+                out.push(part.as_str());
+            }
+            Value::from(out.to_string_lossy().as_ref())
+        }
+        "exists" => {
+            one("exists")?;
+            Value::from_bool(p.exists())
+        }
+        "readable" => {
+            one("readable")?;
+            Value::from_bool(std::fs::File::open(p).is_ok())
+        }
+        other => {
+            return Err(Exception::error(format!(
+                "bad option \"{other}\": must be dirname, exists, extension, join, readable, rootname, or tail"
+            )));
+        }
+    })
 }
 
 pub fn help_text(interp: &Interp, name: Option<&str>) -> Result<String, Exception> {
@@ -225,7 +300,9 @@ pub fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> i32 {
-    let mut interp = new_interp(Box::new(StdHost::new()));
+    let session = Session::new(Box::new(StdHost::new()));
+    session.state.borrow_mut().print_stats = cli.stats;
+    let mut interp = session.interp;
     if let Some(cmd) = &cli.command {
         set_argv(&mut interp, "raytrace", &cli.args);
         return run_main_script(&mut interp, cmd, None);

@@ -1,0 +1,116 @@
+//! What the shell remembers between commands (whether to print statistics,
+//! the last render's figures) and the `--stats` / `stats` report.
+
+use std::time::Instant;
+
+use crate::geometry::Shape;
+use crate::render::RayStats;
+use crate::scene::Scene;
+
+pub struct ShellState {
+    pub print_stats: bool,
+    /// When the script started, or the last render finished: the time
+    /// since is reported as "parse" (running the script up to the render).
+    pub since_last: Instant,
+    pub last: Option<RenderReport>,
+}
+
+impl Default for ShellState {
+    fn default() -> Self {
+        ShellState { print_stats: false, since_last: Instant::now(), last: None }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct RenderReport {
+    pub parse_seconds: f64,
+    pub build_seconds: f64,
+    pub nodes: usize,
+    pub depth: usize,
+    pub primitives: usize,
+    pub triangles: usize,
+    pub geometry_bytes: usize,
+    pub render_seconds: f64,
+    pub width: u32,
+    pub height: u32,
+    pub rays: RayStats,
+    pub peak_rss: Option<u64>,
+}
+
+/// Peak resident memory of this process, from /proc (Linux).
+pub fn peak_rss() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+impl RenderReport {
+    pub fn new(
+        scene: &Scene,
+        parse_seconds: f64,
+        render_seconds: f64,
+        rays: RayStats,
+    ) -> RenderReport {
+        let st = scene.bvh.stats();
+        let triangles = scene.bvh.shapes.iter().filter(|s| matches!(s, Shape::Triangle(_))).count();
+        RenderReport {
+            parse_seconds,
+            build_seconds: scene.build_seconds,
+            nodes: st.nodes,
+            depth: st.depth,
+            primitives: scene.bvh.shapes.len(),
+            triangles,
+            geometry_bytes: st.bytes + scene.normals.len() * 12,
+            render_seconds,
+            width: scene.camera.width,
+            height: scene.camera.height,
+            rays,
+            peak_rss: peak_rss(),
+        }
+    }
+
+    pub fn bytes_per_triangle(&self) -> f64 {
+        if self.triangles == 0 { 0.0 } else { self.geometry_bytes as f64 / self.triangles as f64 }
+    }
+}
+
+impl std::fmt::Display for RenderReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mib = |b: u64| b as f64 / (1 << 20) as f64;
+        writeln!(f, "parse      {:.3} s", self.parse_seconds)?;
+        writeln!(
+            f,
+            "bvh build  {:.3} s  ({} primitives, {} nodes, depth {}, {:.2} M primitives/s)",
+            self.build_seconds,
+            self.primitives,
+            self.nodes,
+            self.depth,
+            self.primitives as f64 / self.build_seconds.max(1e-9) / 1e6
+        )?;
+        writeln!(f, "render     {:.3} s  ({}x{})", self.render_seconds, self.width, self.height)?;
+        let r = &self.rays;
+        writeln!(
+            f,
+            "rays       {} primary, {} shadow, {} reflected, {} refracted ({:.1} BVH nodes per ray)",
+            r.primary,
+            r.shadow,
+            r.reflected,
+            r.refracted,
+            r.nodes_visited as f64 / (r.primary + r.reflected + r.refracted).max(1) as f64
+        )?;
+        writeln!(
+            f,
+            "speed      {:.2} Mrays/s",
+            r.total() as f64 / self.render_seconds.max(1e-9) / 1e6
+        )?;
+        write!(f, "memory     geometry + BVH {:.1} MiB", mib(self.geometry_bytes as u64))?;
+        if self.triangles > 0 {
+            write!(f, " = {:.0} bytes/triangle", self.bytes_per_triangle())?;
+        }
+        if let Some(p) = self.peak_rss {
+            write!(f, "; peak RSS {:.1} MiB", mib(p))?;
+        }
+        Ok(())
+    }
+}
