@@ -45,13 +45,10 @@ impl Aabb {
         let t1 = (self.max - origin) * inv_dir;
         let tn = t0.min(t1).max_element().max(t_min);
         // Robust traversal (Ize 2013): widen the exit by 2 ulps of error.
-        let tf = t0.max(t1).min_element().min(t_max) * (1.0 + 2.0 * gamma(3));
+        let tf = t0.max(t1).min_element().min(t_max) * ROBUST;
         if tn <= tf { Some(tn) } else { None }
     }
 }
 
-/// pbrt's gamma(n): a bound on the relative error of n float operations.
-pub fn gamma(n: i32) -> f32 {
-    let e = f32::EPSILON * 0.5 * n as f32;
-    e / (1.0 - e)
-}
+/// 1 + 2·gamma(3): how much a slab exit distance is widened.
+pub(crate) const ROBUST: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);

@@ -4,9 +4,11 @@
 //! `intersect` finds the closest hit; `transmittance` is the any-hit query
 //! for shadow rays, which multiplies in what each surface lets through.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
+use rayon::prelude::*;
 
 use super::shapes::RayPre;
+use super::aabb::ROBUST;
 use super::{Aabb, Hit, Ray, Shape};
 
 const BINS: usize = 16;
@@ -21,13 +23,22 @@ struct Node {
     min: [f32; 3],
     offset: u32,
     max: [f32; 3],
-    count: u16,
-    axis: u16,
+    count: u32,
 }
 
 impl Node {
     fn bounds(&self) -> Aabb {
         Aabb { min: Vec3::from(self.min), max: Vec3::from(self.max) }
+    }
+
+    /// The slab test in SIMD lanes; the entry distance when hit.
+    #[inline(always)]
+    fn hit(&self, origin: Vec3A, inv: Vec3A, t_min: f32, t_max: f32) -> Option<f32> {
+        let t0 = (Vec3A::from(self.min) - origin) * inv;
+        let t1 = (Vec3A::from(self.max) - origin) * inv;
+        let tn = t0.min(t1).max_element().max(t_min);
+        let tf = t0.max(t1).min_element().min(t_max) * ROBUST;
+        if tn <= tf { Some(tn) } else { None }
     }
 }
 
@@ -55,19 +66,15 @@ struct BuildPrim {
 impl Bvh {
     pub fn build(shapes: Vec<Shape>) -> Bvh {
         let mut prims: Vec<BuildPrim> = shapes
-            .iter()
+            .par_iter()
             .enumerate()
             .map(|(i, s)| {
                 let b = s.bounds();
                 BuildPrim { bounds: b, centroid: b.centroid(), index: i as u32 }
             })
             .collect();
-        let mut nodes = Vec::with_capacity(2 * shapes.len().div_ceil(2).max(1));
-        let mut depth = 0;
-        if !prims.is_empty() {
-            build_rec(&mut prims, 0, &mut nodes, 1, &mut depth);
-        }
-        let ordered = prims.iter().map(|p| shapes[p.index as usize]).collect();
+        let (nodes, depth) = if prims.is_empty() { (Vec::new(), 0) } else { build_par(&mut prims, 0, 1) };
+        let ordered = prims.par_iter().map(|p| shapes[p.index as usize]).collect();
         Bvh { nodes, shapes: ordered, depth }
     }
 
@@ -87,104 +94,111 @@ impl Bvh {
 
     /// The closest hit in `(t_min, t_max)`, and the number of nodes visited.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> (Option<Hit>, u32) {
-        if self.nodes.is_empty() {
-            return (None, 0);
-        }
-        let inv = ray.dir.recip();
-        let neg = [inv.x < 0.0, inv.y < 0.0, inv.z < 0.0];
-        let pre = RayPre::new(ray.dir);
         let mut best: Option<Hit> = None;
         let mut t_max = t_max;
-        let mut stack = [0u32; 64];
-        let mut sp = 0;
-        let mut node = 0usize;
-        let mut visited = 0;
-        loop {
-            let n = &self.nodes[node];
-            visited += 1;
-            if n.bounds().hit(ray.origin, inv, t_min, t_max).is_some() {
-                if n.count > 0 {
-                    let first = n.offset as usize;
-                    for (k, s) in self.shapes[first..first + n.count as usize].iter().enumerate() {
-                        if let Some((t, uv)) = s.intersect(ray, &pre, t_min, t_max) {
-                            t_max = t;
-                            best = Some(Hit { t, prim: (first + k) as u32, uv });
-                        }
-                    }
-                } else {
-                    // Visit the near child first; remember the far one.
-                    let (near, far) = if neg[n.axis as usize] {
-                        (n.offset as usize, node + 1)
-                    } else {
-                        (node + 1, n.offset as usize)
-                    };
-                    if sp < stack.len() {
-                        stack[sp] = far as u32;
-                        sp += 1;
-                    }
-                    node = near;
-                    continue;
-                }
+        let visited = self.traverse(ray, t_min, &mut t_max, |s, k, pre, t_min, t_max| {
+            if let Some((t, uv)) = s.intersect(ray, pre, t_min, *t_max) {
+                *t_max = t;
+                best = Some(Hit { t, prim: k, uv });
             }
-            if sp == 0 {
-                break;
-            }
-            sp -= 1;
-            node = stack[sp] as usize;
-        }
+            false
+        });
         (best, visited)
     }
 
     /// What reaches the end of a shadow segment: the product of `pass(prim)`
     /// over every surface crossed in `(t_min, t_max)` (zero for an opaque
     /// one, which ends the search at once).
-    pub fn transmittance(
+    pub fn transmittance(&self, ray: &Ray, t_min: f32, t_max: f32, mut pass: impl FnMut(u32) -> Vec3) -> Vec3 {
+        let mut through = Vec3::ONE;
+        let mut t_end = t_max;
+        self.traverse(ray, t_min, &mut t_end, |s, k, pre, t_min, t_max| {
+            let mut from = t_min;
+            while let Some((t, _)) = s.intersect(ray, pre, from, *t_max) {
+                through *= pass(k);
+                if through == Vec3::ZERO {
+                    return true;
+                }
+                if !matches!(s, Shape::Sphere { .. }) {
+                    break;
+                }
+                from = t;
+            }
+            false
+        });
+        through
+    }
+
+    /// Walks the nodes the ray's segment overlaps, nearer child first, and
+    /// calls `leaf` on each primitive there (with the current `t_max`, which
+    /// it may shorten); `leaf` returning true stops the walk. Returns the
+    /// number of nodes visited.
+    #[inline]
+    fn traverse(
         &self,
         ray: &Ray,
         t_min: f32,
-        t_max: f32,
-        mut pass: impl FnMut(u32) -> Vec3,
-    ) -> Vec3 {
-        let mut through = Vec3::ONE;
+        t_max: &mut f32,
+        mut leaf: impl FnMut(&Shape, u32, &RayPre, f32, &mut f32) -> bool,
+    ) -> u32 {
         if self.nodes.is_empty() {
-            return through;
+            return 0;
         }
-        let inv = ray.dir.recip();
+        let inv = Vec3A::from(ray.dir.recip());
+        let origin = Vec3A::from(ray.origin);
         let pre = RayPre::new(ray.dir);
-        let mut stack = [0u32; 64];
+        let mut stack = [(0u32, 0f32); 64];
         let mut sp = 0;
-        let mut node = 0usize;
+        let mut visited = 1;
+        let Some(t_root) = self.nodes[0].hit(origin, inv, t_min, *t_max) else { return visited };
+        let mut current = Some((0usize, t_root));
         loop {
-            let n = &self.nodes[node];
-            if n.bounds().hit(ray.origin, inv, t_min, t_max).is_some() {
-                if n.count > 0 {
-                    let first = n.offset as usize;
-                    for (k, s) in self.shapes[first..first + n.count as usize].iter().enumerate() {
-                        let mut from = t_min;
-                        while let Some((t, _)) = s.intersect(ray, &pre, from, t_max) {
-                            through *= pass((first + k) as u32);
-                            if through == Vec3::ZERO {
-                                return through;
-                            }
-                            from = t;
-                        }
+            let Some((node, t_enter)) = current.take().or_else(|| {
+                // Pop, skipping nodes that start beyond the closest hit.
+                while sp > 0 {
+                    sp -= 1;
+                    let (n, t) = stack[sp];
+                    if t <= *t_max {
+                        return Some((n as usize, t));
                     }
-                } else {
+                }
+                None
+            }) else {
+                break;
+            };
+            if t_enter > *t_max {
+                continue;
+            }
+            let n = &self.nodes[node];
+            if n.count > 0 {
+                let first = n.offset as usize;
+                for (k, s) in self.shapes[first..first + n.count as usize].iter().enumerate() {
+                    if leaf(s, (first + k) as u32, &pre, t_min, t_max) {
+                        return visited;
+                    }
+                }
+                continue;
+            }
+            // Test both children here; go to the nearer, keep the farther.
+            let (a, b) = (node + 1, n.offset as usize);
+            visited += 2;
+            let ta = self.nodes[a].hit(origin, inv, t_min, *t_max);
+            let tb = self.nodes[b].hit(origin, inv, t_min, *t_max);
+            current = match (ta, tb) {
+                (Some(ta), Some(tb)) => {
+                    let (near, far) = if ta <= tb { ((a, ta), (b, tb)) } else { ((b, tb), (a, ta)) };
                     if sp < stack.len() {
-                        stack[sp] = n.offset;
+                        stack[sp] = (far.0 as u32, far.1);
                         sp += 1;
                     }
-                    node += 1;
-                    continue;
+                    Some(near)
                 }
-            }
-            if sp == 0 {
-                break;
-            }
-            sp -= 1;
-            node = stack[sp] as usize;
+                (Some(ta), None) => Some((a, ta)),
+                (None, Some(tb)) => Some((b, tb)),
+                (None, None) => None,
+            };
         }
-        through
+        visited
     }
 }
 
@@ -193,107 +207,136 @@ fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Aabb) -> Node {
         min: bounds.min.into(),
         max: bounds.max.into(),
         offset: first as u32,
-        count: prims.len() as u16,
-        axis: 0,
+        count: prims.len() as u32,
     }
+}
+
+/// Subtrees larger than this are built on two threads at once.
+const PARALLEL_BUILD: usize = 8 * 1024;
+
+enum Split {
+    Leaf,
+    /// Partitioned: the left child holds `prims[..mid]`.
+    Inner(usize),
+}
+
+/// Decides how to split `prims` (reordering them) with the surface area
+/// heuristic over `BINS` buckets along the widest centroid axis.
+fn split(prims: &mut [BuildPrim], bounds: &Aabb, level: usize) -> Split {
+    if prims.len() <= 2 || level >= 60 {
+        return Split::Leaf;
+    }
+    let cbounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
+    let ext = cbounds.extent();
+    let axis = if ext.x >= ext.y && ext.x >= ext.z { 0 } else if ext.y >= ext.z { 1 } else { 2 };
+    let lo = cbounds.min[axis];
+    let span = ext[axis];
+    if span <= 0.0 || !span.is_finite() {
+        // All centroids coincide: split in the middle of the list.
+        return if prims.len() <= MAX_LEAF { Split::Leaf } else { Split::Inner(prims.len() / 2) };
+    }
+    let bin_of = |c: Vec3| (((c[axis] - lo) / span * BINS as f32) as usize).min(BINS - 1);
+    let mut counts = [0usize; BINS];
+    let mut boxes = [Aabb::EMPTY; BINS];
+    for p in prims.iter() {
+        let b = bin_of(p.centroid);
+        counts[b] += 1;
+        boxes[b] = boxes[b].union(p.bounds);
+    }
+    let mut right_area = [0.0f32; BINS];
+    let mut right_count = [0usize; BINS];
+    let (mut acc, mut n) = (Aabb::EMPTY, 0);
+    for i in (1..BINS).rev() {
+        acc = acc.union(boxes[i]);
+        n += counts[i];
+        right_area[i] = acc.surface_area();
+        right_count[i] = n;
+    }
+    let (mut acc, mut n) = (Aabb::EMPTY, 0);
+    let mut best = (f32::INFINITY, 0);
+    for i in 0..BINS - 1 {
+        acc = acc.union(boxes[i]);
+        n += counts[i];
+        if n == 0 || right_count[i + 1] == 0 {
+            continue;
+        }
+        let cost = acc.surface_area() * n as f32 + right_area[i + 1] * right_count[i + 1] as f32;
+        if cost < best.0 {
+            best = (cost, i);
+        }
+    }
+    let area = bounds.surface_area().max(f32::MIN_POSITIVE);
+    let split_cost = TRAVERSAL_COST + best.0 / area;
+    if best.0.is_infinite() || (split_cost >= prims.len() as f32 && prims.len() <= MAX_LEAF) {
+        return Split::Leaf;
+    }
+    let mut i = 0;
+    for j in 0..prims.len() {
+        if bin_of(prims[j].centroid) <= best.1 {
+            prims.swap(i, j);
+            i += 1;
+        }
+    }
+    Split::Inner(if i == 0 || i == prims.len() { prims.len() / 2 } else { i })
+}
+
+fn inner(bounds: Aabb) -> Node {
+    Node { min: bounds.min.into(), max: bounds.max.into(), offset: 0, count: 0 }
 }
 
 /// Builds the subtree over `prims` (which start at `first` in the final
 /// order) and appends its nodes depth-first; returns the node index.
-fn build_rec(
-    prims: &mut [BuildPrim],
-    first: usize,
-    nodes: &mut Vec<Node>,
-    level: usize,
-    depth: &mut usize,
-) -> usize {
+fn build_rec(prims: &mut [BuildPrim], first: usize, nodes: &mut Vec<Node>, level: usize, depth: &mut usize) -> usize {
     *depth = (*depth).max(level);
     let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
     let me = nodes.len();
-    if prims.len() <= 2 || level >= 60 {
-        nodes.push(make_leaf(prims, first, bounds));
-        return me;
+    match split(prims, &bounds, level) {
+        Split::Leaf => nodes.push(make_leaf(prims, first, bounds)),
+        Split::Inner(mid) => {
+            nodes.push(inner(bounds));
+            let (left, right) = prims.split_at_mut(mid);
+            build_rec(left, first, nodes, level + 1, depth);
+            let second = build_rec(right, first + mid, nodes, level + 1, depth);
+            nodes[me].offset = second as u32;
+        }
     }
-    let cbounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
-    let ext = cbounds.extent();
-    let axis = if ext.x >= ext.y && ext.x >= ext.z {
-        0
-    } else if ext.y >= ext.z {
-        1
-    } else {
-        2
-    };
-    let lo = cbounds.min[axis];
-    let span = ext[axis];
-    let mid;
-    if span <= 0.0 || !span.is_finite() {
-        // All centroids coincide: split in the middle of the list.
-        if prims.len() <= MAX_LEAF {
-            nodes.push(make_leaf(prims, first, bounds));
-            return me;
-        }
-        mid = prims.len() / 2;
-    } else {
-        // Partition with the surface area heuristic over BINS buckets.
-        let bin_of = |c: Vec3| (((c[axis] - lo) / span * BINS as f32) as usize).min(BINS - 1);
-        let mut counts = [0usize; BINS];
-        let mut boxes = [Aabb::EMPTY; BINS];
-        for p in prims.iter() {
-            let b = bin_of(p.centroid);
-            counts[b] += 1;
-            boxes[b] = boxes[b].union(p.bounds);
-        }
-        let mut right_area = [0.0f32; BINS];
-        let mut right_count = [0usize; BINS];
-        let (mut acc, mut n) = (Aabb::EMPTY, 0);
-        for i in (1..BINS).rev() {
-            acc = acc.union(boxes[i]);
-            n += counts[i];
-            right_area[i] = acc.surface_area();
-            right_count[i] = n;
-        }
-        let (mut acc, mut n) = (Aabb::EMPTY, 0);
-        let mut best = (f32::INFINITY, 0);
-        for i in 0..BINS - 1 {
-            acc = acc.union(boxes[i]);
-            n += counts[i];
-            if n == 0 || right_count[i + 1] == 0 {
-                continue;
-            }
-            let cost =
-                acc.surface_area() * n as f32 + right_area[i + 1] * right_count[i + 1] as f32;
-            if cost < best.0 {
-                best = (cost, i);
-            }
-        }
-        let area = bounds.surface_area().max(f32::MIN_POSITIVE);
-        let split_cost = TRAVERSAL_COST + best.0 / area;
-        if best.0.is_infinite() || (split_cost >= prims.len() as f32 && prims.len() <= MAX_LEAF) {
-            nodes.push(make_leaf(prims, first, bounds));
-            return me;
-        }
-        let split = best.1;
-        let mut i = 0;
-        for j in 0..prims.len() {
-            if bin_of(prims[j].centroid) <= split {
-                prims.swap(i, j);
-                i += 1;
-            }
-        }
-        mid = if i == 0 || i == prims.len() { prims.len() / 2 } else { i };
-    }
-    nodes.push(Node {
-        min: bounds.min.into(),
-        max: bounds.max.into(),
-        offset: 0,
-        count: 0,
-        axis: axis as u16,
-    });
-    let (left, right) = prims.split_at_mut(mid);
-    build_rec(left, first, nodes, level + 1, depth);
-    let second = build_rec(right, first + mid, nodes, level + 1, depth);
-    nodes[me].offset = second as u32;
     me
+}
+
+/// The same tree as `build_rec`, building large subtrees on two threads;
+/// returns the subtree's nodes (interior offsets relative to its root).
+fn build_par(prims: &mut [BuildPrim], first: usize, level: usize) -> (Vec<Node>, usize) {
+    if prims.len() < PARALLEL_BUILD {
+        let (mut nodes, mut depth) = (Vec::with_capacity(prims.len()), 0);
+        build_rec(prims, first, &mut nodes, level, &mut depth);
+        return (nodes, depth);
+    }
+    let bounds = prims
+        .par_chunks(4096)
+        .map(|c| c.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds)))
+        .reduce(|| Aabb::EMPTY, Aabb::union);
+    match split(prims, &bounds, level) {
+        Split::Leaf => (vec![make_leaf(prims, first, bounds)], level),
+        Split::Inner(mid) => {
+            let (left, right) = prims.split_at_mut(mid);
+            let ((ln, ld), (rn, rd)) =
+                rayon::join(|| build_par(left, first, level + 1), || build_par(right, first + mid, level + 1));
+            let mut nodes = Vec::with_capacity(1 + ln.len() + rn.len());
+            let mut root = inner(bounds);
+            root.offset = (1 + ln.len()) as u32;
+            nodes.push(root);
+            let shift = |n: &Node, by: usize| {
+                let mut n = *n;
+                if n.count == 0 {
+                    n.offset += by as u32;
+                }
+                n
+            };
+            nodes.extend(ln.iter().map(|n| shift(n, 1)));
+            nodes.extend(rn.iter().map(|n| shift(n, 1 + ln.len())));
+            (nodes, ld.max(rd))
+        }
+    }
 }
 
 #[cfg(test)]

@@ -82,3 +82,18 @@ fn degenerate_inputs() {
     let r = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
     assert_eq!(bvh.intersect(&r, 0.0, f32::INFINITY).0.map(|h| h.t), Some(4.0));
 }
+
+#[test]
+fn parallel_build_finds_the_same_hits() {
+    // Large enough that the top of the tree is built on two threads.
+    let mut seed = 3;
+    let shapes = random_scene(3 * PARALLEL_BUILD, &mut seed);
+    let bvh = Bvh::build(shapes.clone());
+    assert_eq!(bvh.shapes.len(), shapes.len());
+    for _ in 0..300 {
+        let o = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 14.0 - 2.0;
+        let d = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) - 0.5;
+        let ray = Ray::new(o, d);
+        assert_eq!(bvh.intersect(&ray, 0.0, f32::INFINITY).0.map(|h| h.t), brute(&shapes, &ray));
+    }
+}
