@@ -51,4 +51,5 @@ impl Aabb {
 }
 
 /// 1 + 2·gamma(3): how much a slab exit distance is widened.
-pub(crate) const ROBUST: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+pub(crate) const ROBUST: f32 =
+    1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);

@@ -7,8 +7,8 @@
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::shapes::RayPre;
 use super::aabb::ROBUST;
+use super::shapes::RayPre;
 use super::{Aabb, Hit, Ray, Shape};
 
 const BINS: usize = 16;
@@ -73,7 +73,8 @@ impl Bvh {
                 BuildPrim { bounds: b, centroid: b.centroid(), index: i as u32 }
             })
             .collect();
-        let (nodes, depth) = if prims.is_empty() { (Vec::new(), 0) } else { build_par(&mut prims, 0, 1) };
+        let (nodes, depth) =
+            if prims.is_empty() { (Vec::new(), 0) } else { build_par(&mut prims, 0, 1) };
         let ordered = prims.par_iter().map(|p| shapes[p.index as usize]).collect();
         Bvh { nodes, shapes: ordered, depth }
     }
@@ -109,7 +110,13 @@ impl Bvh {
     /// What reaches the end of a shadow segment: the product of `pass(prim)`
     /// over every surface crossed in `(t_min, t_max)` (zero for an opaque
     /// one, which ends the search at once).
-    pub fn transmittance(&self, ray: &Ray, t_min: f32, t_max: f32, mut pass: impl FnMut(u32) -> Vec3) -> Vec3 {
+    pub fn transmittance(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        mut pass: impl FnMut(u32) -> Vec3,
+    ) -> Vec3 {
         let mut through = Vec3::ONE;
         let mut t_end = t_max;
         self.traverse(ray, t_min, &mut t_end, |s, k, pre, t_min, t_max| {
@@ -186,7 +193,8 @@ impl Bvh {
             let tb = self.nodes[b].hit(origin, inv, t_min, *t_max);
             current = match (ta, tb) {
                 (Some(ta), Some(tb)) => {
-                    let (near, far) = if ta <= tb { ((a, ta), (b, tb)) } else { ((b, tb), (a, ta)) };
+                    let (near, far) =
+                        if ta <= tb { ((a, ta), (b, tb)) } else { ((b, tb), (a, ta)) };
                     if sp < stack.len() {
                         stack[sp] = (far.0 as u32, far.1);
                         sp += 1;
@@ -228,7 +236,13 @@ fn split(prims: &mut [BuildPrim], bounds: &Aabb, level: usize) -> Split {
     }
     let cbounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
     let ext = cbounds.extent();
-    let axis = if ext.x >= ext.y && ext.x >= ext.z { 0 } else if ext.y >= ext.z { 1 } else { 2 };
+    let axis = if ext.x >= ext.y && ext.x >= ext.z {
+        0
+    } else if ext.y >= ext.z {
+        1
+    } else {
+        2
+    };
     let lo = cbounds.min[axis];
     let span = ext[axis];
     if span <= 0.0 || !span.is_finite() {
@@ -286,7 +300,13 @@ fn inner(bounds: Aabb) -> Node {
 
 /// Builds the subtree over `prims` (which start at `first` in the final
 /// order) and appends its nodes depth-first; returns the node index.
-fn build_rec(prims: &mut [BuildPrim], first: usize, nodes: &mut Vec<Node>, level: usize, depth: &mut usize) -> usize {
+fn build_rec(
+    prims: &mut [BuildPrim],
+    first: usize,
+    nodes: &mut Vec<Node>,
+    level: usize,
+    depth: &mut usize,
+) -> usize {
     *depth = (*depth).max(level);
     let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
     let me = nodes.len();
@@ -319,8 +339,10 @@ fn build_par(prims: &mut [BuildPrim], first: usize, level: usize) -> (Vec<Node>,
         Split::Leaf => (vec![make_leaf(prims, first, bounds)], level),
         Split::Inner(mid) => {
             let (left, right) = prims.split_at_mut(mid);
-            let ((ln, ld), (rn, rd)) =
-                rayon::join(|| build_par(left, first, level + 1), || build_par(right, first + mid, level + 1));
+            let ((ln, ld), (rn, rd)) = rayon::join(
+                || build_par(left, first, level + 1),
+                || build_par(right, first + mid, level + 1),
+            );
             let mut nodes = Vec::with_capacity(1 + ln.len() + rn.len());
             let mut root = inner(bounds);
             root.offset = (1 + ln.len()) as u32;

@@ -213,7 +213,8 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
                 spec.precision = Some(chars[s..i].iter().collect::<String>().parse().unwrap_or(0));
             }
         }
-        if spec.width > 1 << 20 || spec.precision.is_some_and(|p| p > 1 << 20) {
+        // Rust's formatter takes precisions up to 65535; more is no use.
+        if spec.width > 1 << 20 || spec.precision.is_some_and(|p| p > u16::MAX as usize) {
             return Err(Exception::error("format width or precision too large"));
         }
         // Size modifiers.
@@ -317,5 +318,14 @@ mod tests {
         assert_eq!(f("%2$s %1$s", &["a", "b"]), "b a");
         assert_eq!(f("%.3g|%G", &["1234.5", "1e-10"]), "1.23e+03|1E-10");
         assert_eq!(f("%x", &["-1"]), "ffffffffffffffff");
+    }
+
+    #[test]
+    fn huge_precision_is_an_error_not_a_panic() {
+        // Found by fuzzing: Rust's formatter panics past 65535 digits.
+        let v = [Value::from("1.5")];
+        assert!(format("%.70000f", &v).is_err());
+        assert!(format("%.70000e", &v).is_err());
+        assert_eq!(format("%.3f", &v).unwrap(), "1.500");
     }
 }

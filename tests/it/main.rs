@@ -2,5 +2,6 @@
 
 mod cli;
 mod lang;
+mod mesh;
 mod render;
 mod util;

@@ -1,0 +1,104 @@
+//! The `mesh` command: OBJ files placed in the scene, and bad files.
+
+use crate::util::{raytrace, text};
+
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("rayshell-mesh-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+const QUAD: &str = "# a unit quad as one polygon, plus a comment and unsupported lines\n\
+mtllib nothing.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\ng quad\nf 1/1 2/1 3/1 4/1\n";
+
+#[test]
+fn mesh_is_placed_and_lit() {
+    let dir = temp_dir("ok");
+    std::fs::write(dir.join("quad.obj"), QUAD).unwrap();
+    let script = "puts [mesh quad.obj -scale 2 -translate 0 0 -5]\n\
+        camera_resolution 5 5\nambient_light 1 1 1\nmaterial 0 1 0 1 0 0 1 0 1\n\
+        puts [mesh quad.obj -flat -translate 10 0 0]\n\
+        puts [scene_bounds]\nrender out.ppm\n";
+    let r = raytrace().arg("-c").arg(script).current_dir(&dir).output().unwrap();
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    assert_eq!(text(&r.stdout), "2\n2\n-2.0 -2.0 -5.0 11.0 2.0 0.0\n");
+    let (_, _, rgb) =
+        rayshell::image::read_ppm(&std::fs::read(dir.join("out.ppm")).unwrap()).unwrap();
+    // The centre pixel sees the first quad, made with the default white material.
+    assert_eq!(&rgb[12 * 3..12 * 3 + 3], &[51, 51, 51]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn smooth_normals_are_computed_when_missing() {
+    let dir = temp_dir("smooth");
+    // A tent: two triangles meeting at a ridge along y.
+    std::fs::write(dir.join("tent.obj"), "v -1 -1 0\nv 0 -1 1\nv 0 1 1\nv -1 1 0\nv 1 -1 0\nv 1 1 0\nf 1 2 3\nf 1 3 4\nf 2 5 6\nf 2 6 3\n").unwrap();
+    let render = |flat: &str| {
+        let s = format!(
+            "camera_from 0 0 5\ncamera_resolution 21 3\nparallel_light 1 1 1 -1 0 -1\nmesh tent.obj {flat}\nrender {}.ppm\n",
+            if flat.is_empty() { "smooth" } else { "flat" }
+        );
+        let r = raytrace().arg("-c").arg(s).current_dir(&dir).output().unwrap();
+        assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    };
+    render("");
+    render("-flat");
+    let read = |n: &str| rayshell::image::read_ppm(&std::fs::read(dir.join(n)).unwrap()).unwrap().2;
+    let (smooth, flat) = (read("smooth.ppm"), read("flat.ppm"));
+    // Flat shading gives each face one value; smooth shading varies along the row.
+    let row = |img: &[u8]| (0..21).map(|x| img[(21 + x) * 3]).collect::<Vec<u8>>();
+    let distinct = |r: Vec<u8>| {
+        let mut r = r;
+        r.sort();
+        r.dedup();
+        r.len()
+    };
+    assert!(
+        distinct(row(&smooth)) > distinct(row(&flat)),
+        "{:?} vs {:?}",
+        row(&smooth),
+        row(&flat)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_obj_files_are_located_errors() {
+    let dir = temp_dir("bad");
+    let cases: &[(&str, &str)] = &[
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", "bad.obj:4: bad OBJ line \"f 1 2 x\""),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "bad.obj:4: bad OBJ line \"f 1 2 9\""),
+        ("v 0 0 zero\nf 1 1 1\n", "bad.obj:1: bad OBJ line \"v 0 0 zero\""),
+        ("v 0 0 0\n", "bad.obj: the file has no faces"),
+        ("\u{0}\u{1}binary garbage\u{ff}", "bad.obj"),
+    ];
+    for (obj, want) in cases {
+        std::fs::write(dir.join("bad.obj"), obj).unwrap();
+        std::fs::write(dir.join("s.tsd"), "puts hi\nmesh bad.obj\n").unwrap();
+        let r = raytrace().arg("s.tsd").current_dir(&dir).output().unwrap();
+        let err = text(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{obj:?}: {err}");
+        assert!(err.starts_with(&format!("s.tsd:2: {want}")), "{obj:?}: {err}");
+    }
+    let r = raytrace().arg("-c").arg("mesh nope.obj").current_dir(&dir).output().unwrap();
+    assert!(text(&r.stderr).contains("couldn't read \"nope.obj\": no such file or directory"));
+    let r = raytrace().arg("-c").arg("mesh x.obj -scale").current_dir(&dir).output().unwrap();
+    assert!(text(&r.stderr).contains(
+        "wrong # args: should be \"mesh fileName ?-scale s? ?-translate x y z? ?-flat?\""
+    ));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The shared models load and render, when they are there.
+#[test]
+fn shared_bunny_loads() {
+    let bunny = crate::util::root().join("../shared/models/stanford-bunny.obj");
+    if !bunny.exists() {
+        println!("SKIPPED shared_bunny_loads: {} is absent", bunny.display());
+        return;
+    }
+    let script = format!("puts [mesh {{{}}}]", bunny.display());
+    let r = raytrace().arg("-c").arg(script).output().unwrap();
+    assert_eq!(text(&r.stdout), "69451\n", "{}", text(&r.stderr));
+}
