@@ -249,7 +249,8 @@ fn split(prims: &mut [BuildPrim], bounds: &Aabb, level: usize) -> Split {
         // All centroids coincide: split in the middle of the list.
         return if prims.len() <= MAX_LEAF { Split::Leaf } else { Split::Inner(prims.len() / 2) };
     }
-    let bin_of = |c: Vec3| (((c[axis] - lo) / span * BINS as f32) as usize).min(BINS - 1);
+    let scale = BINS as f32 / span;
+    let bin_of = |c: Vec3| (((c[axis] - lo) * scale) as usize).min(BINS - 1);
     let mut counts = [0usize; BINS];
     let mut boxes = [Aabb::EMPTY; BINS];
     for p in prims.iter() {

@@ -76,6 +76,7 @@ pub struct Hit {
 /// Per-ray constants of the watertight triangle test.
 #[derive(Clone, Copy, Debug)]
 pub struct RayPre {
+    /// The axes permuted so the ray's largest direction component is z.
     k: [usize; 3],
     s: Vec3,
 }
