@@ -159,20 +159,18 @@ impl Bvh {
         let mut visited = 1;
         let Some(t_root) = self.nodes[0].hit(origin, inv, t_min, *t_max) else { return visited };
         let mut current = Some((0usize, t_root));
-        loop {
-            let Some((node, t_enter)) = current.take().or_else(|| {
-                // Pop, skipping nodes that start beyond the closest hit.
-                while sp > 0 {
-                    sp -= 1;
-                    let (n, t) = stack[sp];
-                    if t <= *t_max {
-                        return Some((n as usize, t));
-                    }
+        // Take the next node: the nearer child, else pop one, skipping nodes
+        // that start beyond the closest hit so far.
+        while let Some((node, t_enter)) = current.take().or_else(|| {
+            while sp > 0 {
+                sp -= 1;
+                let (n, t) = stack[sp];
+                if t <= *t_max {
+                    return Some((n as usize, t));
                 }
-                None
-            }) else {
-                break;
-            };
+            }
+            None
+        }) {
             if t_enter > *t_max {
                 continue;
             }
