@@ -334,3 +334,40 @@ fn no_light_warns() {
     assert!(Path::new(&dir.join("dark.ppm")).exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn stats_and_heatmap() {
+    let dir = std::env::temp_dir().join(format!("rayshell-stats-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let script = "camera_resolution 32 24\npoint_light 1 1 1 0 3 3\n\
+        for {set i 0} {$i < 50} {incr i} { sphere [expr {$i % 10 - 5}] [expr {$i / 10 - 2}] -8 0.4 }\n\
+        render -heatmap heat.ppm\nputs [stats]\n";
+    let r = raytrace().arg("--stats").arg("-c").arg(script).current_dir(&dir).output().unwrap();
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let (err, out) = (text(&r.stderr), text(&r.stdout));
+    for want in ["bvh build", "50 primitives", "768 primary", "Mrays/s", "peak RSS"] {
+        assert!(err.contains(want) && out.contains(want), "missing {want:?} in:\n{err}");
+    }
+    let (_, _, rgb) = read_ppm(&std::fs::read(dir.join("heat.ppm")).unwrap()).unwrap();
+    // Rays towards the spheres visit more nodes than rays past them.
+    let mut distinct: Vec<&[u8]> = rgb.chunks(3).collect();
+    distinct.sort();
+    distinct.dedup();
+    assert!(distinct.len() > 3, "the heatmap is flat");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn degenerate_triangles_are_skipped_with_one_warning() {
+    let dir = std::env::temp_dir().join(format!("rayshell-degen-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let script = "camera_resolution 4 4\npoint_light 1 1 1 0 0 1\n\
+        set a [vertex 0 0 -3]; set b [vertex 1 0 -3]; set c [vertex 2 0 -3]\n\
+        tri $a $b $c; tri $a $a $b; tri $a $b [vertex 0 1 -3]\nrender d.ppm\n";
+    let r = raytrace().arg("-c").arg(script).current_dir(&dir).output().unwrap();
+    assert_eq!(r.status.code(), Some(0));
+    let err = text(&r.stderr);
+    assert_eq!(err.matches("warning:").count(), 1, "{err}");
+    assert!(err.contains("skipped 2 degenerate triangle(s)"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
