@@ -115,42 +115,35 @@ pub(crate) const POW10: [f64; 23] = [
 /// Clinger's fast path: `[-]digits[.digits]` with at most 15 significant
 /// digits is exactly `mantissa / 10^k`, correctly rounded. Anything else
 /// (exponents, long mantissas, other syntaxes) returns `None`.
-fn parse_simple_decimal(b: &[u8]) -> Option<Num> {
-    let (neg, digits) = match b.first()? {
-        b'-' => (true, &b[1..]),
-        b'+' => (false, &b[1..]),
-        _ => (false, b),
-    };
+pub(crate) fn parse_simple_decimal(b: &[u8]) -> Option<Num> {
+    let neg = b.first() == Some(&b'-');
+    let start = if neg || b.first() == Some(&b'+') { 1 } else { 0 };
+    let mut i = start;
     let mut m: u64 = 0;
-    let mut n_digits = 0;
-    let mut frac: Option<usize> = None;
-    for (i, &c) in digits.iter().enumerate() {
-        match c {
-            b'0'..=b'9' => {
-                m = m * 10 + (c - b'0') as u64;
-                n_digits += 1;
-                if n_digits > 15 {
-                    return None;
-                }
-            }
-            b'.' if frac.is_none() => frac = Some(i),
-            _ => return None,
-        }
+    while i < b.len() && b[i].is_ascii_digit() {
+        m = m.wrapping_mul(10).wrapping_add((b[i] - b'0') as u64);
+        i += 1;
     }
-    if n_digits == 0 {
+    let int_end = i;
+    let mut frac = None;
+    if i < b.len() && b[i] == b'.' {
+        i += 1;
+        let f = i;
+        while i < b.len() && b[i].is_ascii_digit() {
+            m = m.wrapping_mul(10).wrapping_add((b[i] - b'0') as u64);
+            i += 1;
+        }
+        frac = Some(i - f);
+    }
+    let n_digits = i - start - frac.is_some() as usize;
+    if i != b.len() || !(1..=15).contains(&n_digits) {
         return None;
     }
     match frac {
-        None => {
-            // Leading zeros mean octal in Tcl: not this path.
-            if digits.len() > 1 && digits[0] == b'0' {
-                return None;
-            }
-            let v = m as i64;
-            Some(Num::Int(if neg { -v } else { v }))
-        }
-        Some(dot) => {
-            let k = digits.len() - dot - 1;
+        // Leading zeros mean octal in Tcl: not this path.
+        None if int_end - start > 1 && b[start] == b'0' => None,
+        None => Some(Num::Int(if neg { -(m as i64) } else { m as i64 })),
+        Some(k) => {
             let v = m as f64 / POW10[k];
             Some(Num::Double(if neg { -v } else { v }))
         }

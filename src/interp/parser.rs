@@ -10,7 +10,6 @@
 
 use std::rc::Rc;
 
-use super::number::{Num, POW10};
 use super::value::Value;
 
 /// Nested `[...]` deeper than this is refused rather than overflowing.
@@ -242,13 +241,11 @@ impl Parts {
     }
 }
 
-/// A plain word of a fast-path command: its span, and its value when it is
-/// a simple decimal number.
+/// A plain word of a fast-path command: its span in the source.
 #[derive(Clone, Copy)]
 pub(crate) struct PlainWord {
     pub(crate) start: u32,
     pub(crate) end: u32,
-    pub(crate) num: Option<Num>,
 }
 
 pub(crate) enum Plain {
@@ -334,48 +331,13 @@ impl<'a> PlainScanner<'a> {
             if b[p] == b'{' || b[p] == b'"' {
                 return Plain::Complex;
             }
-            // Try the word as a simple decimal number first (the common case
-            // in meshes); see `number::parse_simple_decimal` for the rules.
-            let neg = b[p] == b'-';
-            let digits_start = if neg || b[p] == b'+' { p + 1 } else { p };
-            let mut q = digits_start;
-            let mut m: u64 = 0;
-            while q < len && b[q].is_ascii_digit() {
-                m = m.wrapping_mul(10).wrapping_add((b[q] - b'0') as u64);
-                q += 1;
+            while p < len && !SPECIAL[b[p] as usize] {
+                p += 1;
             }
-            let int_end = q;
-            let mut frac_digits = None;
-            if q < len && b[q] == b'.' {
-                q += 1;
-                let frac_start = q;
-                while q < len && b[q].is_ascii_digit() {
-                    m = m.wrapping_mul(10).wrapping_add((b[q] - b'0') as u64);
-                    q += 1;
-                }
-                frac_digits = Some(q - frac_start);
-            }
-            let n_digits = q - digits_start - frac_digits.is_some() as usize;
-            let num = if (q >= len || WORD_END[b[q] as usize]) && (1..=15).contains(&n_digits) {
-                p = q;
-                match frac_digits {
-                    None if int_end - digits_start > 1 && b[digits_start] == b'0' => None,
-                    None => Some(Num::Int(if neg { -(m as i64) } else { m as i64 })),
-                    Some(k) => {
-                        let v = m as f64 / POW10[k];
-                        Some(Num::Double(if neg { -v } else { v }))
-                    }
-                }
-            } else {
-                while p < len && !SPECIAL[b[p] as usize] {
-                    p += 1;
-                }
-                None
-            };
             if p < len && !WORD_END[b[p] as usize] {
                 return Plain::Complex;
             }
-            spans.push(PlainWord { start: ws as u32, end: p as u32, num });
+            spans.push(PlainWord { start: ws as u32, end: p as u32 });
         }
         let mut end = p;
         while end > start && is_blank(b[end - 1]) {

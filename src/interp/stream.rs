@@ -371,8 +371,9 @@ impl Interp {
             return None;
         }
         let mut nums: SmallVec<[Num; 8]> = SmallVec::new();
+        let bytes = text.as_bytes();
         for w in &spans[1..] {
-            match w.num {
+            match number::parse_simple_decimal(&bytes[w.start as usize..w.end as usize]) {
                 Some(n) => nums.push(n),
                 None => nums.push(number::parse_num(&text[w.start as usize..w.end as usize])?),
             }
