@@ -99,41 +99,25 @@ pub fn is_complete(src: &str) -> bool {
     true
 }
 
-/// Byte classes for the fast scan of plain words.
-const SPECIAL: [bool; 256] = {
+/// A lookup table: true for the given bytes.
+const fn byte_table(bytes: &[u8]) -> [bool; 256] {
     let mut t = [false; 256];
-    let specials = b" \t\n\r\x0b\x0c;\\$[]";
     let mut i = 0;
-    while i < specials.len() {
-        t[specials[i] as usize] = true;
+    while i < bytes.len() {
+        t[bytes[i] as usize] = true;
         i += 1;
     }
     t
-};
+}
+
+/// Byte classes for the fast scan of plain words.
+const SPECIAL: [bool; 256] = byte_table(b" \t\n\r\x0b\x0c;\\$[]");
 
 /// Bytes that end a word at the top level: blanks, newline, `;`.
-const WORD_END: [bool; 256] = {
-    let mut t = [false; 256];
-    let ends = b" \t\n\r\x0b\x0c;";
-    let mut i = 0;
-    while i < ends.len() {
-        t[ends[i] as usize] = true;
-        i += 1;
-    }
-    t
-};
+const WORD_END: [bool; 256] = byte_table(b" \t\n\r\x0b\x0c;");
 
 /// Blanks between words (not newline).
-const BLANK: [bool; 256] = {
-    let mut t = [false; 256];
-    let blanks = b" \t\r\x0b\x0c";
-    let mut i = 0;
-    while i < blanks.len() {
-        t[blanks[i] as usize] = true;
-        i += 1;
-    }
-    t
-};
+const BLANK: [bool; 256] = byte_table(b" \t\r\x0b\x0c");
 
 fn is_blank(c: u8) -> bool {
     BLANK[c as usize]
