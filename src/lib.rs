@@ -1,21 +1,34 @@
 //! rayshell: a ray tracer driven by a Tcl-style scene language.
 //!
-//! # Codemap
+//! A scene file is a Tcl script. The `shell` runs it in the `interp`reter,
+//! whose scene commands change a `scene::Builder`; `render` freezes the
+//! builder into a `scene::Scene` (building its BVH) and the `render` module
+//! traces it into an `image::Image`.
 //!
-//! - `interp`: a Tcl 8.6-compatible interpreter (parser, values, `expr`,
-//!   builtins). It knows nothing about graphics.
-//! - `scene`: the scene `Builder` the commands change (vertices, normals,
-//!   triangles). It knows nothing about the interpreter.
+//! # Codemap (in reading order)
+//!
+//! - `interp`: a Tcl 8.6-compatible interpreter: `parser` (Script, Command,
+//!   Word), `value` (Value), `eval` (Interp), `stream` (whole files, the
+//!   scanner thread), `expr`, `builtins`. It knows nothing about graphics.
+//! - `geometry`: rays, boxes, spheres, watertight triangles, the BVH.
+//! - `scene`: `Builder` (mutable, checked), `Scene` (frozen), camera, lights,
+//!   materials.
+//! - `render`: the Whitted tracer, parallel over tiles.
+//! - `image`: the linear f32 image, PPM and PNG writers.
 //! - `shell`: the glue and the only module that touches files, the terminal,
-//!   the environment and exit codes: command-line arguments, the REPL, the
-//!   scene commands registered into the interpreter.
+//!   the environment and exit codes: arguments, the REPL, the scene commands
+//!   (`commands`), OBJ loading, atomic files, statistics.
 //!
 //! # Invariants
 //!
-//! - `interp` never imports anything else from this crate; `scene` never
-//!   imports `interp` or `shell`.
+//! - `interp` imports nothing else from this crate; `geometry`, `scene`,
+//!   `render` and `image` never see interpreter values (`tests/it/tidy.rs`
+//!   checks the layering).
+//! - Only `shell` does I/O; `image` writes to `impl Write`.
+//! - Rendering reads a frozen `Scene` and uses no randomness: the picture is
+//!   the same for any thread count.
 //! - No input makes the program panic: bad scripts are `Exception`s with a
-//!   file and line.
+//!   file and line; a panic that slips through still exits 70, never 101.
 
 pub mod geometry;
 pub mod image;

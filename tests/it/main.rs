@@ -4,4 +4,5 @@ mod cli;
 mod lang;
 mod mesh;
 mod render;
+mod tidy;
 mod util;
