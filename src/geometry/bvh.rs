@@ -4,7 +4,7 @@
 //! `intersect` finds the closest hit; `transmittance` is the any-hit query
 //! for shadow rays, which multiplies in what each surface lets through.
 
-use glam::{Vec3, Vec3A};
+use glam::{Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::aabb::ROBUST;
@@ -18,26 +18,55 @@ const TRAVERSAL_COST: f32 = 1.0;
 
 /// A flattened node: a leaf holds `count > 0` primitives from `offset`; an
 /// interior node's first child follows it and its second is at `offset`.
+/// The bounds sit in two SIMD lanes-of-four whose spare fourth lanes carry
+/// `offset` and `count`, encoded as normal (not denormal) floats so the
+/// slab test's arithmetic on those lanes stays fast.
 #[derive(Clone, Copy, Debug)]
 struct Node {
-    min: [f32; 3],
-    offset: u32,
-    max: [f32; 3],
-    count: u32,
+    lo: Vec4,
+    hi: Vec4,
 }
 
+const TAG: u32 = 0x4000_0000;
+
 impl Node {
+    fn new(bounds: Aabb, offset: u32, count: u32) -> Node {
+        debug_assert!(offset < 1 << 29 && count < 1 << 29);
+        Node {
+            lo: bounds.min.extend(f32::from_bits(TAG | offset)),
+            hi: bounds.max.extend(f32::from_bits(TAG | count)),
+        }
+    }
+
+    #[inline(always)]
+    fn offset(&self) -> u32 {
+        self.lo.w.to_bits() & !TAG
+    }
+
+    #[inline(always)]
+    fn count(&self) -> u32 {
+        self.hi.w.to_bits() & !TAG
+    }
+
+    fn set_offset(&mut self, offset: u32) {
+        self.lo.w = f32::from_bits(TAG | offset);
+    }
+
     fn bounds(&self) -> Aabb {
-        Aabb { min: Vec3::from(self.min), max: Vec3::from(self.max) }
+        Aabb { min: self.lo.truncate(), max: self.hi.truncate() }
     }
 
     /// The slab test in SIMD lanes; the entry distance when hit.
     #[inline(always)]
     fn hit(&self, origin: Vec3A, inv: Vec3A, t_min: f32, t_max: f32) -> Option<f32> {
-        let t0 = (Vec3A::from(self.min) - origin) * inv;
-        let t1 = (Vec3A::from(self.max) - origin) * inv;
-        let tn = t0.min(t1).max_element().max(t_min);
-        let tf = t0.max(t1).min_element().min(t_max) * ROBUST;
+        let t0 = (Vec3A::from_vec4(self.lo) - origin) * inv;
+        let t1 = (Vec3A::from_vec4(self.hi) - origin) * inv;
+        // Plain comparisons rather than f32::max/min: no NaN bookkeeping on
+        // the hottest path (a NaN lane widens the interval, which is safe).
+        let near = t0.min(t1).max_element();
+        let far = t0.max(t1).min_element();
+        let tn = if near > t_min { near } else { t_min };
+        let tf = if far < t_max { far } else { t_max } * ROBUST;
         if tn <= tf { Some(tn) } else { None }
     }
 }
@@ -82,7 +111,7 @@ impl Bvh {
     pub fn stats(&self) -> BvhStats {
         BvhStats {
             nodes: self.nodes.len(),
-            leaves: self.nodes.iter().filter(|n| n.count > 0).count(),
+            leaves: self.nodes.iter().filter(|n| n.count() > 0).count(),
             depth: self.depth,
             bytes: self.nodes.len() * std::mem::size_of::<Node>()
                 + self.shapes.len() * std::mem::size_of::<Shape>(),
@@ -175,9 +204,10 @@ impl Bvh {
                 continue;
             }
             let n = &self.nodes[node];
-            if n.count > 0 {
-                let first = n.offset as usize;
-                for (k, s) in self.shapes[first..first + n.count as usize].iter().enumerate() {
+            let count = n.count();
+            if count > 0 {
+                let first = n.offset() as usize;
+                for (k, s) in self.shapes[first..first + count as usize].iter().enumerate() {
                     if leaf(s, (first + k) as u32, &pre, t_min, t_max) {
                         return visited;
                     }
@@ -185,7 +215,7 @@ impl Bvh {
                 continue;
             }
             // Test both children here; go to the nearer, keep the farther.
-            let (a, b) = (node + 1, n.offset as usize);
+            let (a, b) = (node + 1, n.offset() as usize);
             visited += 2;
             let ta = self.nodes[a].hit(origin, inv, t_min, *t_max);
             let tb = self.nodes[b].hit(origin, inv, t_min, *t_max);
@@ -209,12 +239,7 @@ impl Bvh {
 }
 
 fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Aabb) -> Node {
-    Node {
-        min: bounds.min.into(),
-        max: bounds.max.into(),
-        offset: first as u32,
-        count: prims.len() as u32,
-    }
+    Node::new(bounds, first as u32, prims.len() as u32)
 }
 
 /// Subtrees larger than this are built on two threads at once.
@@ -294,7 +319,7 @@ fn split(prims: &mut [BuildPrim], bounds: &Aabb, level: usize) -> Split {
 }
 
 fn inner(bounds: Aabb) -> Node {
-    Node { min: bounds.min.into(), max: bounds.max.into(), offset: 0, count: 0 }
+    Node::new(bounds, 0, 0)
 }
 
 /// Builds the subtree over `prims` (which start at `first` in the final
@@ -316,7 +341,7 @@ fn build_rec(
             let (left, right) = prims.split_at_mut(mid);
             build_rec(left, first, nodes, level + 1, depth);
             let second = build_rec(right, first + mid, nodes, level + 1, depth);
-            nodes[me].offset = second as u32;
+            nodes[me].set_offset(second as u32);
         }
     }
     me
@@ -344,12 +369,12 @@ fn build_par(prims: &mut [BuildPrim], first: usize, level: usize) -> (Vec<Node>,
             );
             let mut nodes = Vec::with_capacity(1 + ln.len() + rn.len());
             let mut root = inner(bounds);
-            root.offset = (1 + ln.len()) as u32;
+            root.set_offset((1 + ln.len()) as u32);
             nodes.push(root);
             let shift = |n: &Node, by: usize| {
                 let mut n = *n;
-                if n.count == 0 {
-                    n.offset += by as u32;
+                if n.count() == 0 {
+                    n.set_offset(n.offset() + by as u32);
                 }
                 n
             };
