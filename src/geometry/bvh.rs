@@ -253,11 +253,10 @@ enum Split {
 
 /// Decides how to split `prims` (reordering them) with the surface area
 /// heuristic over `BINS` buckets along the widest centroid axis.
-fn split(prims: &mut [BuildPrim], bounds: &Aabb, level: usize) -> Split {
+fn split(prims: &mut [BuildPrim], (bounds, cbounds): (Aabb, Aabb), level: usize) -> Split {
     if prims.len() <= 2 || level >= 60 {
         return Split::Leaf;
     }
-    let cbounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.grow(p.centroid));
     let ext = cbounds.extent();
     let axis = if ext.x >= ext.y && ext.x >= ext.z {
         0
@@ -318,6 +317,13 @@ fn split(prims: &mut [BuildPrim], bounds: &Aabb, level: usize) -> Split {
     Split::Inner(if i == 0 || i == prims.len() { prims.len() / 2 } else { i })
 }
 
+/// The bounds of the primitives and of their centroids, in one pass.
+fn bounds_of(prims: &[BuildPrim]) -> (Aabb, Aabb) {
+    prims
+        .iter()
+        .fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(p.bounds), c.grow(p.centroid)))
+}
+
 fn inner(bounds: Aabb) -> Node {
     Node::new(bounds, 0, 0)
 }
@@ -332,9 +338,10 @@ fn build_rec(
     depth: &mut usize,
 ) -> usize {
     *depth = (*depth).max(level);
-    let bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds));
+    let both = bounds_of(prims);
+    let bounds = both.0;
     let me = nodes.len();
-    match split(prims, &bounds, level) {
+    match split(prims, both, level) {
         Split::Leaf => nodes.push(make_leaf(prims, first, bounds)),
         Split::Inner(mid) => {
             nodes.push(inner(bounds));
@@ -355,11 +362,12 @@ fn build_par(prims: &mut [BuildPrim], first: usize, level: usize) -> (Vec<Node>,
         build_rec(prims, first, &mut nodes, level, &mut depth);
         return (nodes, depth);
     }
-    let bounds = prims
+    let both = prims
         .par_chunks(4096)
-        .map(|c| c.iter().fold(Aabb::EMPTY, |b, p| b.union(p.bounds)))
-        .reduce(|| Aabb::EMPTY, Aabb::union);
-    match split(prims, &bounds, level) {
+        .map(bounds_of)
+        .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(b.0), a.1.union(b.1)));
+    let bounds = both.0;
+    match split(prims, both, level) {
         Split::Leaf => (vec![make_leaf(prims, first, bounds)], level),
         Split::Inner(mid) => {
             let (left, right) = prims.split_at_mut(mid);
