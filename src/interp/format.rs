@@ -84,6 +84,9 @@ fn g_form(x: f64, prec: usize, alt: bool, upper: bool) -> String {
     } else {
         format!("{:.*}", (p as i32 - 1 - exp).max(0) as usize, x)
     };
+    if alt && !s.contains(['.', 'e', 'E']) {
+        s.push('.');
+    }
     if !alt {
         // Strip trailing zeros of the fraction.
         let (mant, tail) = match s.find(['e', 'E']) {

@@ -187,7 +187,8 @@ fn scan_element(s: &str, quote_hash: bool) -> Quoting {
     }
     if forbid_none {
         if prefer_escape && !prefer_brace {
-            return Quoting::Mask;
+            // Tcl's history: a leading # turns this case into braces.
+            return if quote_hash && b[0] == b'#' { Quoting::Brace } else { Quoting::Mask };
         }
         return Quoting::Brace;
     }
@@ -267,6 +268,7 @@ mod tests {
         assert_eq!(fmt(&["a\"b", "a b", "", "{", "}", "a\\"]), "a\\\"b {a b} {} \\{ \\} a\\\\");
         assert_eq!(fmt(&["$x", "#a", "b", "#c"]), "{$x} #a b #c");
         assert_eq!(fmt(&["#a", "#b"]), "{#a} #b");
+        assert_eq!(fmt(&["#]", "#]"]), "{#]} #\\]");
         assert_eq!(fmt(&["[x]", "{a}b", "x\\y", "a}", "\"a"]), "{[x]} {{a}b} {x\\y} a\\} {\"a}");
     }
 

@@ -219,7 +219,15 @@ pub fn format_double(d: f64) -> String {
     if d == 0.0 {
         return if d.is_sign_negative() { "-0.0".into() } else { "0.0".into() };
     }
-    let e = format!("{d:e}");
+    // The shortest digits that read back; then the same number of digits
+    // correctly rounded (ties to even), which is what Tcl (David Gay's
+    // dtoa) prints when two candidates are equally close.
+    let shortest = format!("{d:e}");
+    let n_digits = shortest
+        .split_once('e')
+        .map(|(m, _)| m.bytes().filter(u8::is_ascii_digit).count())
+        .unwrap_or(1);
+    let e = format!("{:.*e}", n_digits.saturating_sub(1), d);
     let (mant, exp) = e.split_once('e').expect("LowerExp always writes an exponent");
     let exp: i32 = exp.parse().expect("LowerExp writes a decimal exponent");
     let (neg, mant) = match mant.strip_prefix('-') {
@@ -279,6 +287,8 @@ mod tests {
             (123456789012345678.0, "1.2345678901234568e+17"),
             (-2.5, "-2.5"),
             (7.826369259425611e-6, "7.826369259425611e-6"),
+            // A tie between two shortest candidates: Tcl picks the even one.
+            (164657298785009.12, "164657298785009.12"),
             (f64::INFINITY, "Inf"),
         ];
         for (d, want) in cases {
