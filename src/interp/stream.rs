@@ -183,7 +183,7 @@ impl Interp {
         self.script_file = saved_file;
         match r {
             Err(mut e) if e.code == Code::Error => {
-                if let Some(f) = &file {
+                if let (Some(f), true) = (&file, e.script_line > 0) {
                     e.trace.push_str(&format!("\n    (file \"{f}\" line {})", e.script_line));
                 }
                 Err(e)

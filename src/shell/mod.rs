@@ -311,6 +311,12 @@ fn run(cli: Cli) -> i32 {
         Some(path) => {
             let path_str = path.to_string_lossy().into_owned();
             set_argv(&mut interp, &path_str, &cli.args);
+            if path.is_dir() {
+                eprintln!(
+                    "raytrace: couldn't read file \"{path_str}\": illegal operation on a directory"
+                );
+                return 1;
+            }
             let mut f = match std::fs::File::open(path) {
                 Ok(f) => f,
                 Err(e) => {

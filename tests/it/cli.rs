@@ -33,6 +33,9 @@ fn options() {
     let out = run(&["no/such/file.tsd"], "");
     assert_eq!(out.status.code(), Some(1));
     assert!(text(&out.stderr).contains("couldn't read file"));
+    let out = run(&["tests"], "");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("illegal operation on a directory"));
 }
 
 #[test]
