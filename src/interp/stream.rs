@@ -246,7 +246,6 @@ impl Interp {
         st: &mut StreamState,
         file: &Option<Rc<str>>,
     ) -> Result<(), Exception> {
-        drop(std::mem::take(&mut st.result));
         match self.try_numeric(text, spans, &mut st.cache) {
             Some(Ok(n)) => {
                 st.last_num = Some(n);
@@ -272,6 +271,8 @@ impl Interp {
             st.argv.push(v);
         }
         st.last_num = None;
+        // Drop the previous result first so `lappend` can grow in place.
+        drop(std::mem::take(&mut st.result));
         let r = self.invoke(&st.argv);
         st.pool.extend(st.argv.drain(..));
         st.pool.truncate(16);
@@ -350,13 +351,16 @@ impl Interp {
         spans: &[PlainWord],
         cache: &mut [Option<CachedNumeric>; 2],
     ) -> Option<Result<Option<Num>, Exception>> {
-        let name = &text[spans[0].start as usize..spans[0].end as usize];
+        let bytes = text.as_bytes();
+        let name_bytes = &bytes[spans[0].start as usize..spans[0].end as usize];
         // Meshes alternate a few names: remember the last two lookups.
         let epoch = self.cmd_epoch;
-        let hit = cache.iter().flatten().find(|c| c.epoch == epoch && &*c.name == name);
+        let hit =
+            cache.iter().flatten().find(|c| c.epoch == epoch && c.name.as_bytes() == name_bytes);
         let (arity, f) = match hit {
             Some(c) => (c.arity, c.f.clone()),
             None => {
+                let name = &text[spans[0].start as usize..spans[0].end as usize];
                 let Some(CommandKind::Numeric(arity, _, f)) = self.commands.get(name) else {
                     return None;
                 };
@@ -370,8 +374,7 @@ impl Interp {
         if arity != spans.len() - 1 {
             return None;
         }
-        let mut nums: SmallVec<[Num; 8]> = SmallVec::new();
-        let bytes = text.as_bytes();
+        let mut nums: SmallVec<[Num; 12]> = SmallVec::new();
         for w in &spans[1..] {
             match number::parse_simple_decimal(&bytes[w.start as usize..w.end as usize]) {
                 Some(n) => nums.push(n),
