@@ -93,7 +93,8 @@ struct BuildPrim {
 }
 
 impl Bvh {
-    pub fn build(shapes: Vec<Shape>) -> Bvh {
+    /// Builds over `shapes`, copying each once into leaf order.
+    pub fn build(shapes: &[Shape]) -> Bvh {
         let mut prims: Vec<BuildPrim> = shapes
             .par_iter()
             .enumerate()

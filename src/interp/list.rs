@@ -247,13 +247,6 @@ pub fn format_list(items: &[Value]) -> String {
     out
 }
 
-/// Quotes a single string as a list element (as the first element).
-pub fn quote(s: &str) -> String {
-    let mut out = String::new();
-    append_element(&mut out, s, true);
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -18,7 +18,7 @@ mod value;
 
 pub use error::{Code, Exception, Loc, TclResult};
 pub use eval::{Host, Interp, MAX_VALUE_LEN};
-pub use list::{format_list, quote};
+pub use list::format_list;
 pub use number::{Num, format_double, parse_double};
 pub use parser::is_complete;
 pub use value::Value;

@@ -227,10 +227,6 @@ impl Value {
             None => false,
         }
     }
-
-    pub fn ptr_eq(&self, other: &Value) -> bool {
-        Rc::ptr_eq(&self.0, &other.0)
-    }
 }
 
 impl Default for Value {

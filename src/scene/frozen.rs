@@ -29,7 +29,7 @@ impl Scene {
     pub fn freeze(b: &Builder) -> Result<Scene, SceneError> {
         let camera = b.camera()?;
         let start = Instant::now();
-        let bvh = Bvh::build(b.shapes.clone());
+        let bvh = Bvh::build(&b.shapes);
         let build_seconds = start.elapsed().as_secs_f64();
         Ok(Scene {
             camera,

@@ -36,7 +36,7 @@ fn brute(shapes: &[Shape], ray: &Ray) -> Option<f32> {
 fn same_hits_as_brute_force() {
     let mut seed = 7;
     let shapes = random_scene(3000, &mut seed);
-    let bvh = Bvh::build(shapes.clone());
+    let bvh = Bvh::build(&shapes);
     assert_eq!(bvh.shapes.len(), shapes.len());
     for _ in 0..3000 {
         let o = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 14.0 - 2.0;
@@ -54,7 +54,7 @@ fn same_hits_as_brute_force() {
 fn every_primitive_is_reachable() {
     let mut seed = 99;
     let shapes = random_scene(500, &mut seed);
-    let bvh = Bvh::build(shapes);
+    let bvh = Bvh::build(&shapes);
     for (i, s) in bvh.shapes.iter().enumerate() {
         // A ray from just outside each primitive's centre towards it hits it
         // or something in front of it, never nothing.
@@ -75,10 +75,10 @@ fn every_primitive_is_reachable() {
 
 #[test]
 fn degenerate_inputs() {
-    assert!(Bvh::build(Vec::new()).intersect(&Ray::new(Vec3::ZERO, Vec3::X), 0.0, 1.0).0.is_none());
+    assert!(Bvh::build(&[]).intersect(&Ray::new(Vec3::ZERO, Vec3::X), 0.0, 1.0).0.is_none());
     // Many identical spheres: no infinite recursion, all found.
     let same = vec![Shape::Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }; 1000];
-    let bvh = Bvh::build(same);
+    let bvh = Bvh::build(&same);
     let r = Ray::new(Vec3::new(0.0, 0.0, 5.0), Vec3::new(0.0, 0.0, -1.0));
     assert_eq!(bvh.intersect(&r, 0.0, f32::INFINITY).0.map(|h| h.t), Some(4.0));
 }
@@ -88,7 +88,7 @@ fn parallel_build_finds_the_same_hits() {
     // Large enough that the top of the tree is built on two threads.
     let mut seed = 3;
     let shapes = random_scene(3 * PARALLEL_BUILD, &mut seed);
-    let bvh = Bvh::build(shapes.clone());
+    let bvh = Bvh::build(&shapes);
     assert_eq!(bvh.shapes.len(), shapes.len());
     for _ in 0..300 {
         let o = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 14.0 - 2.0;
