@@ -8,7 +8,7 @@ use glam::Vec3;
 use super::camera::Camera;
 use super::light::Light;
 use super::material::Material;
-use crate::geometry::{Shape, Triangle};
+use crate::geometry::{Aabb, Shape, Triangle};
 
 /// The largest image, in pixels (64 Mpixel: 768 MiB of f32 RGB).
 pub const MAX_PIXELS: u64 = 1 << 26;
@@ -52,6 +52,31 @@ pub struct MeshData {
     pub normal_tris: Option<Vec<[u32; 3]>>,
 }
 
+/// A primitive as the script gave it. Triangles keep pool indices (checked
+/// when added) and are resolved to inline vertices by `resolve`, so adding
+/// one is a bounds check and a 32-byte push, whatever the pool's size.
+#[derive(Clone, Copy, Debug)]
+pub enum Prim {
+    /// Vertex indices into `Builder::vertices`.
+    Tri {
+        v: [u32; 3],
+        n: [u32; 3],
+        material: u32,
+    },
+    /// Vertex indices into `Builder::mesh_vertices` (meshes keep their
+    /// positions out of the script's pool, so `vertex` numbering is theirs).
+    MeshTri {
+        v: [u32; 3],
+        n: [u32; 3],
+        material: u32,
+    },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+        material: u32,
+    },
+}
+
 /// Where the camera looks: at a point, or along a direction.
 #[derive(Clone, Copy, Debug)]
 pub enum Aim {
@@ -69,15 +94,15 @@ pub struct Builder {
     pub width: u32,
     pub height: u32,
     pub vertices: Vec<Vec3>,
+    /// Placed positions of `mesh` files.
+    pub mesh_vertices: Vec<Vec3>,
     pub normals: Vec<Vec3>,
-    pub shapes: Vec<Shape>,
+    pub prims: Vec<Prim>,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub ambient: Vec3,
     pub background: Vec3,
     pub trace_depth: u32,
-    /// Triangles skipped because they have no area.
-    pub degenerate: usize,
 }
 
 impl Default for Builder {
@@ -90,16 +115,23 @@ impl Default for Builder {
             width: 256,
             height: 256,
             vertices: Vec::new(),
+            mesh_vertices: Vec::new(),
             normals: Vec::new(),
-            shapes: Vec::new(),
+            prims: Vec::new(),
             materials: vec![Material::default()],
             lights: Vec::new(),
             ambient: Vec3::ZERO,
             background: Vec3::ZERO,
             trace_depth: 5,
-            degenerate: 0,
         }
     }
+}
+
+/// False for triangles with no area (or a non-finite normal): they are
+/// skipped, with a warning, rather than rendered as slivers.
+fn has_area(t: &Triangle) -> bool {
+    let n = t.cross();
+    n.length_squared() > 0.0 && n.is_finite()
 }
 
 fn finite(v: Vec3) -> Result<Vec3, SceneError> {
@@ -225,7 +257,7 @@ impl Builder {
         Ok(self.normals.len() - 1)
     }
 
-    fn vertex_at(&self, i: i64) -> Result<Vec3, SceneError> {
+    fn vertex_index(&self, i: i64) -> Result<u32, SceneError> {
         if i < 0 || i as usize >= self.vertices.len() {
             return Err(SceneError::IndexOutOfRange {
                 pool: "vertex",
@@ -233,7 +265,7 @@ impl Builder {
                 size: self.vertices.len(),
             });
         }
-        Ok(self.vertices[i as usize])
+        Ok(i as u32)
     }
 
     fn normal_index(&self, i: i64) -> Result<u32, SceneError> {
@@ -247,35 +279,68 @@ impl Builder {
         Ok(i as u32)
     }
 
-    fn push_triangle(&mut self, p: [Vec3; 3], normals: [u32; 3]) -> bool {
-        let t = Triangle { p, normals, material: self.material_index() };
-        let n = t.cross();
-        if n.length_squared().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
-            || !n.is_finite()
-        {
-            self.degenerate += 1;
-            return false;
-        }
-        self.shapes.push(Shape::Triangle(t));
-        true
-    }
-
-    /// A flat triangle from three vertex indices (counter-clockwise). Returns
-    /// false when it has no area and was skipped.
-    pub fn tri(&mut self, v: [i64; 3]) -> Result<bool, SceneError> {
-        let p = [self.vertex_at(v[0])?, self.vertex_at(v[1])?, self.vertex_at(v[2])?];
-        Ok(self.push_triangle(p, [Triangle::FLAT; 3]))
+    /// A flat triangle from three vertex indices (counter-clockwise).
+    /// Triangles with no area are skipped when the scene is rendered.
+    pub fn tri(&mut self, v: [i64; 3]) -> Result<(), SceneError> {
+        let v = [self.vertex_index(v[0])?, self.vertex_index(v[1])?, self.vertex_index(v[2])?];
+        let material = self.material_index();
+        self.prims.push(Prim::Tri { v, n: [Triangle::FLAT; 3], material });
+        Ok(())
     }
 
     /// A smooth triangle: (vertex, normal) index pairs.
-    pub fn ntri(&mut self, vn: [(i64, i64); 3]) -> Result<bool, SceneError> {
-        let mut p = [Vec3::ZERO; 3];
+    pub fn ntri(&mut self, vn: [(i64, i64); 3]) -> Result<(), SceneError> {
+        let mut v = [0u32; 3];
         let mut n = [0u32; 3];
         for k in 0..3 {
-            p[k] = self.vertex_at(vn[k].0)?;
+            v[k] = self.vertex_index(vn[k].0)?;
             n[k] = self.normal_index(vn[k].1)?;
         }
-        Ok(self.push_triangle(p, n))
+        let material = self.material_index();
+        self.prims.push(Prim::Tri { v, n, material });
+        Ok(())
+    }
+
+    /// The renderable shapes, with triangle vertices inline, and the number
+    /// of triangles skipped because they have no area (in parallel; the
+    /// order of `prims` is kept).
+    pub fn resolve(&self) -> (Vec<Shape>, usize) {
+        use rayon::prelude::*;
+        let shapes: Vec<Shape> = self
+            .prims
+            .par_iter()
+            .with_min_len(4096)
+            .filter_map(|&prim| match prim {
+                Prim::Tri { v, n, material } => {
+                    let p = v.map(|i| self.vertices[i as usize]);
+                    let t = Triangle { p, normals: n, material };
+                    has_area(&t).then_some(Shape::Triangle(t))
+                }
+                Prim::MeshTri { v, n, material } => {
+                    let p = v.map(|i| self.mesh_vertices[i as usize]);
+                    let t = Triangle { p, normals: n, material };
+                    has_area(&t).then_some(Shape::Triangle(t))
+                }
+                Prim::Sphere { center, radius, material } => {
+                    Some(Shape::Sphere { center, radius, material })
+                }
+            })
+            .collect();
+        let skipped = self.prims.len() - shapes.len();
+        (shapes, skipped)
+    }
+
+    /// The bounding box of every primitive (empty when there are none).
+    pub fn bounds(&self) -> Aabb {
+        self.prims.iter().fold(Aabb::EMPTY, |b, prim| match *prim {
+            Prim::Tri { v, .. } => v.iter().fold(b, |b, &i| b.grow(self.vertices[i as usize])),
+            Prim::MeshTri { v, .. } => {
+                v.iter().fold(b, |b, &i| b.grow(self.mesh_vertices[i as usize]))
+            }
+            Prim::Sphere { center, radius, material } => {
+                b.union(Shape::Sphere { center, radius, material }.bounds())
+            }
+        })
     }
 
     pub fn sphere(&mut self, center: Vec3, radius: f32) -> Result<(), SceneError> {
@@ -285,7 +350,7 @@ impl Builder {
                 "sphere radius must be positive, got {radius}"
             )));
         }
-        self.shapes.push(Shape::Sphere { center, radius, material: self.material_index() });
+        self.prims.push(Prim::Sphere { center, radius, material: self.material_index() });
         Ok(())
     }
 
@@ -311,6 +376,9 @@ impl Builder {
         }
         if self.normals.len() + n_v >= u32::MAX as usize {
             return Err(SceneError::Capacity { what: "normals" });
+        }
+        if self.mesh_vertices.len() + n_v >= u32::MAX as usize {
+            return Err(SceneError::Capacity { what: "mesh vertices" });
         }
         let positions: Vec<Vec3> = mesh.positions.iter().map(|&p| place(p)).collect();
         if positions.iter().any(|p| !p.is_finite()) {
@@ -346,15 +414,19 @@ impl Builder {
             self.normals.extend(acc.iter().map(|n| n.try_normalize().unwrap_or(Vec3::Y)));
             Some(mesh.tris.iter().map(|t| t.map(|i| base + i)).collect())
         };
-        self.shapes.reserve(mesh.tris.len());
+        let vbase = self.mesh_vertices.len() as u32;
+        let material = self.material_index();
+        self.prims.reserve(mesh.tris.len());
         let mut added = 0;
         for (k, t) in mesh.tris.iter().enumerate() {
+            let n = corner_normals.as_ref().map(|c| c[k]).unwrap_or([Triangle::FLAT; 3]);
             let p = t.map(|i| positions[i as usize]);
-            let normals = corner_normals.as_ref().map(|c| c[k]).unwrap_or([Triangle::FLAT; 3]);
-            if self.push_triangle(p, normals) {
+            if has_area(&Triangle { p, normals: n, material }) {
                 added += 1;
             }
+            self.prims.push(Prim::MeshTri { v: t.map(|i| vbase + i), n, material });
         }
+        self.mesh_vertices.extend(positions);
         Ok(added)
     }
 

@@ -21,6 +21,8 @@ pub struct Scene {
     pub background: Vec3,
     pub trace_depth: u32,
     pub build_seconds: f64,
+    /// Triangles skipped because they have no area.
+    pub degenerate: usize,
 }
 
 impl Scene {
@@ -29,7 +31,9 @@ impl Scene {
     pub fn freeze(b: &Builder) -> Result<Scene, SceneError> {
         let camera = b.camera()?;
         let start = Instant::now();
-        let bvh = Bvh::build(&b.shapes);
+        let (shapes, degenerate) = b.resolve();
+        let bvh = Bvh::build(&shapes);
+        drop(shapes);
         let build_seconds = start.elapsed().as_secs_f64();
         Ok(Scene {
             camera,
@@ -41,19 +45,20 @@ impl Scene {
             background: b.background,
             trace_depth: b.trace_depth,
             build_seconds,
+            degenerate,
         })
     }
 
     /// Warnings worth printing before a render.
-    pub fn warnings(&self, b: &Builder) -> Vec<String> {
+    pub fn warnings(&self) -> Vec<String> {
         let mut w = Vec::new();
         if self.lights.is_empty() && self.ambient == Vec3::ZERO {
             w.push("the scene has no lights and no ambient light: the picture will show only the background".into());
         } else if self.lights.is_empty() {
             w.push("the scene has no lights: only ambient light will show".into());
         }
-        if b.degenerate > 0 {
-            w.push(format!("skipped {} degenerate triangle(s) with no area", b.degenerate));
+        if self.degenerate > 0 {
+            w.push(format!("skipped {} degenerate triangle(s) with no area", self.degenerate));
         }
         w
     }

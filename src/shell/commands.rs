@@ -282,11 +282,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "the bounding box of all geometry: xmin ymin zmin xmax ymax zmax",
         move |_, argv| {
             check_args(argv, 1, 1, "")?;
-            let b = s
-                .borrow()
-                .shapes
-                .iter()
-                .fold(crate::geometry::Aabb::EMPTY, |b, sh| b.union(sh.bounds()));
+            let b = s.borrow().bounds();
             if b.is_empty() {
                 return Ok(Value::empty());
             }
@@ -407,7 +403,7 @@ fn render_command(
     let scene = Scene::freeze(b).map_err(scene_err)?;
     // Open the output before the work, so a bad path fails at once.
     let mut out = super::AtomicFile::create(path).map_err(write_err)?;
-    for w in scene.warnings(b) {
+    for w in scene.warnings() {
         interp.write_stderr(&format!("warning: {w}\n"))?;
     }
     let start = Instant::now();

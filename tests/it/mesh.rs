@@ -18,10 +18,12 @@ fn mesh_is_placed_and_lit() {
     let script = "puts [mesh quad.obj -scale 2 -translate 0 0 -5]\n\
         camera_resolution 5 5\nambient_light 1 1 1\nmaterial 0 1 0 1 0 0 1 0 1\n\
         puts [mesh quad.obj -flat -translate 10 0 0]\n\
-        puts [scene_bounds]\nrender out.ppm\n";
+        puts [scene_bounds]\nputs [vertex 0 0 0]\nrender out.ppm\n";
     let r = raytrace().arg("-c").arg(script).current_dir(&dir).output().unwrap();
     assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
-    assert_eq!(text(&r.stdout), "2\n2\n-2.0 -2.0 -5.0 11.0 2.0 0.0\n");
+    // A mesh's positions stay out of the script's vertex pool: the first
+    // `vertex` after it is still number 0.
+    assert_eq!(text(&r.stdout), "2\n2\n-2.0 -2.0 -5.0 11.0 2.0 0.0\n0\n");
     let (_, _, rgb) =
         rayshell::image::read_ppm(&std::fs::read(dir.join("out.ppm")).unwrap()).unwrap();
     // The centre pixel sees the first quad, made with the default white material.
