@@ -1,15 +1,24 @@
-//! Parse and evaluate arbitrary bytes as a script, scene commands included.
-//! Any panic (or native stack overflow) is a bug; Tcl errors are fine.
+//! Parse and evaluate arbitrary bytes as a script, scene commands included,
+//! rendering at a tiny resolution. Any panic (or native stack overflow) is a
+//! bug; Tcl errors are fine.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use rayshell::shell::{CaptureHost, new_interp};
+use rayshell::shell::{CaptureHost, Session};
 
 fuzz_target!(|data: &[u8]| {
+    // Images the script renders land in a scratch directory.
+    static CHDIR: std::sync::Once = std::sync::Once::new();
+    CHDIR.call_once(|| {
+        let dir = std::env::temp_dir().join("rayshell-fuzz-out");
+        std::fs::create_dir_all(&dir).unwrap();
+        std::env::set_current_dir(&dir).unwrap();
+    });
     let src = String::from_utf8_lossy(data);
-    let mut interp = new_interp(Box::new(CaptureHost::default()));
-    // Bound the work so an endless loop is not reported as a hang.
-    interp.max_commands = Some(20_000);
-    interp.max_depth = 200;
-    let _ = interp.eval_source(&src, Some("fuzz.tsd"));
+    let mut session = Session::new(Box::new(CaptureHost::default()));
+    // Bound the work so an endless loop or a huge picture is not a hang.
+    session.scene.borrow_mut().max_pixels = 16 * 16;
+    session.interp.max_commands = Some(20_000);
+    session.interp.max_depth = 200;
+    let _ = session.interp.eval_source(&src, Some("fuzz.tsd"));
 });

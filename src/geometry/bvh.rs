@@ -137,6 +137,21 @@ impl Bvh {
         (best, visited)
     }
 
+    /// The closest hit found by testing every primitive in turn: the
+    /// baseline the hierarchy is measured against (and checked against).
+    pub fn intersect_brute(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        let pre = RayPre::new(ray.dir);
+        let mut best: Option<Hit> = None;
+        let mut t_max = t_max;
+        for (k, s) in self.shapes.iter().enumerate() {
+            if let Some((t, uv)) = s.intersect(ray, &pre, t_min, t_max) {
+                t_max = t;
+                best = Some(Hit { t, prim: k as u32, uv });
+            }
+        }
+        best
+    }
+
     /// What reaches the end of a shadow segment: the product of `pass(prim)`
     /// over every surface crossed in `(t_min, t_max)` (zero for an opaque
     /// one, which ends the search at once).

@@ -4,4 +4,6 @@
 
 mod tracer;
 
-pub use tracer::{RayStats, raybench, reflect, refract, render, render_heatmap, trace};
+pub use tracer::{
+    RayStats, raybench, raybench_brute, reflect, refract, render, render_heatmap, trace,
+};

@@ -182,6 +182,29 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
     (primary_s, start.elapsed().as_secs_f64(), stats)
 }
 
+/// Primary rays by brute force (every primitive tested per ray), over an
+/// evenly spread subset of the pixels sized to about `budget` ray-primitive
+/// tests: the baseline for `raybench -brute`. Returns (rays, seconds).
+pub fn raybench_brute(scene: &Scene, budget: u64) -> (u64, f64) {
+    use rayon::prelude::*;
+    let cam = &scene.camera;
+    let pixels = cam.width as u64 * cam.height as u64;
+    let prims = scene.bvh.shapes.len().max(1) as u64;
+    let rays = (budget / prims).clamp(1, pixels);
+    let stride = pixels / rays;
+    let start = std::time::Instant::now();
+    let hits: u64 = (0..rays)
+        .into_par_iter()
+        .map(|k| {
+            let i = k * stride;
+            let ray = cam.ray((i % cam.width as u64) as u32, (i / cam.width as u64) as u32);
+            scene.bvh.intersect_brute(&ray, 0.0, f32::INFINITY).is_some() as u64
+        })
+        .sum();
+    std::hint::black_box(hits);
+    (rays, start.elapsed().as_secs_f64())
+}
+
 /// The colour seen along `ray`, `depth` bounces deep.
 pub fn trace(scene: &Scene, ray: &Ray, depth: u32, weight: f32, st: &mut RayStats) -> Vec3 {
     let (hit, visited) = scene.bvh.intersect(ray, 0.0, f32::INFINITY);

@@ -103,6 +103,9 @@ pub struct Builder {
     pub ambient: Vec3,
     pub background: Vec3,
     pub trace_depth: u32,
+    /// The largest `camera_resolution` accepted (`MAX_PIXELS` unless an
+    /// embedder lowers it; `clear` keeps it).
+    pub max_pixels: u64,
 }
 
 impl Default for Builder {
@@ -123,6 +126,7 @@ impl Default for Builder {
             ambient: Vec3::ZERO,
             background: Vec3::ZERO,
             trace_depth: 5,
+            max_pixels: MAX_PIXELS,
         }
     }
 }
@@ -202,11 +206,14 @@ impl Builder {
             )));
         }
         let pixels = (w as u64).saturating_mul(h as u64);
-        if pixels > MAX_PIXELS || w > u32::MAX as i64 || h > u32::MAX as i64 {
+        if pixels > self.max_pixels || w > u32::MAX as i64 || h > u32::MAX as i64 {
             let mib = pixels.saturating_mul(12) >> 20;
+            let limit = match self.max_pixels {
+                m if m >= 1 << 20 => format!("{} Mpixel", m >> 20),
+                m => format!("{m} pixels"),
+            };
             return Err(SceneError::Invalid(format!(
-                "resolution {w}x{h} would need {mib} MiB for the image; the limit is {} Mpixel",
-                MAX_PIXELS >> 20
+                "resolution {w}x{h} would need {mib} MiB for the image; the limit is {limit}"
             )));
         }
         self.width = w as u32;
@@ -469,6 +476,6 @@ impl Builder {
 
     /// Back to the initial state.
     pub fn clear(&mut self) {
-        *self = Builder::default();
+        *self = Builder { max_pixels: self.max_pixels, ..Builder::default() };
     }
 }

@@ -309,8 +309,8 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
     let st = state.clone();
     interp.register_host(
         "raybench",
-        "?-shadow?",
-        "trace the primary rays (and shadow rays to the first light) without shading; returns timings",
+        "?-shadow? ?-brute?",
+        "trace the primary rays (and shadow rays to the first light) without shading; returns timings (-brute adds the brute-force baseline)",
         move |_, argv| raybench_command(&s.borrow(), &st, argv),
     );
     interp.register_host("stats", "", "statistics of the last render", move |_, argv| {
@@ -426,12 +426,19 @@ fn raybench_command(
     state: &RefCell<ShellState>,
     argv: &[Value],
 ) -> Result<Value, Exception> {
-    check_args(argv, 1, 2, "?-shadow?")?;
-    let shadow = match argv.get(1).map(|v| v.as_str()) {
-        None => false,
-        Some("-shadow") => true,
-        Some(o) => return Err(Exception::error(format!("bad option \"{o}\": must be -shadow"))),
-    };
+    check_args(argv, 1, 3, "?-shadow? ?-brute?")?;
+    let (mut shadow, mut brute) = (false, false);
+    for o in &argv[1..] {
+        match o.as_str() {
+            "-shadow" => shadow = true,
+            "-brute" => brute = true,
+            o => {
+                return Err(Exception::error(format!(
+                    "bad option \"{o}\": must be -shadow or -brute"
+                )));
+            }
+        }
+    }
     let parse_seconds = state.borrow().since_last.elapsed().as_secs_f64();
     let scene = Scene::freeze(b).map_err(scene_err)?;
     let (primary_s, shadow_s, rays) = render::raybench(&scene, shadow);
@@ -451,6 +458,12 @@ fn raybench_command(
         Value::from("bytes_per_triangle"),
     ];
     out.push(Value::from_f64(report.bytes_per_triangle()));
+    if brute {
+        // About 2e8 ray-primitive tests: a second or two.
+        let (rays, seconds) = render::raybench_brute(&scene, 200_000_000);
+        out.push(Value::from("brute_mrays_per_s"));
+        out.push(Value::from_f64(rays as f64 / seconds.max(1e-9) / 1e6));
+    }
     let mut st = state.borrow_mut();
     st.last = Some(report);
     st.since_last = Instant::now();

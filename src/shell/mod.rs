@@ -7,7 +7,7 @@
 
 mod args;
 mod commands;
-mod obj;
+pub mod obj;
 mod repl;
 mod stats;
 

@@ -1,6 +1,9 @@
 //! Reading Wavefront OBJ meshes (with tobj) into `scene::MeshData`. Polygons
 //! are triangulated; `vn` normals are kept; `vt`, materials and groups are
-//! ignored. A file tobj rejects is scanned again to name the bad line.
+//! ignored. Each line is checked on its way to tobj, so a bad one is named
+//! by its line number.
+
+use std::io::BufRead;
 
 use glam::Vec3;
 
@@ -9,19 +12,30 @@ use crate::scene::MeshData;
 pub fn load(path: &str) -> Result<MeshData, String> {
     let file = std::fs::File::open(path)
         .map_err(|e| format!("couldn't read \"{path}\": {}", super::io_reason(&e)))?;
-    let mut reader = std::io::BufReader::new(file);
+    // Streamed: a large file is never held in memory whole.
+    from_reader(path, std::io::BufReader::new(file))
+}
+
+/// Parses OBJ text held in memory; `path` names it in messages.
+pub fn parse(path: &str, bytes: &[u8]) -> Result<MeshData, String> {
+    from_reader(path, bytes)
+}
+
+fn from_reader(path: &str, reader: impl BufRead) -> Result<MeshData, String> {
     let opts = tobj::LoadOptions {
         triangulate: true,
         single_index: false,
         ignore_points: true,
         ignore_lines: true,
     };
-    let loaded = tobj::load_obj_buf(&mut reader, &opts, |_| Err(tobj::LoadError::OpenFileFailed));
+    let mut checked = Checked::new(reader);
+    let loaded = tobj::load_obj_buf(&mut checked, &opts, |_| Err(tobj::LoadError::OpenFileFailed));
+    if let Some((line, text)) = checked.bad {
+        return Err(format!("{path}:{line}: bad OBJ line \"{}\"", text.trim()));
+    }
     let models = match loaded {
         Ok((models, _materials)) => models,
-        Err(e) => {
-            return Err(locate_error(path).unwrap_or_else(|| format!("{path}: bad OBJ file: {e}")));
-        }
+        Err(e) => return Err(format!("{path}: bad OBJ file: {e}")),
     };
     let mut mesh = MeshData::default();
     let mut normal_tris = Vec::new();
@@ -58,47 +72,98 @@ pub fn load(path: &str) -> Result<MeshData, String> {
     Ok(mesh)
 }
 
-/// Finds the first line tobj would reject, for a `file:line:` message.
-fn locate_error(path: &str) -> Option<String> {
-    let text = super::read_text(path).ok()?;
-    let (mut nv, mut nn) = (0i64, 0i64);
-    for (k, line) in text.lines().enumerate() {
-        let mut words = line.split_whitespace();
-        let floats = |w: std::str::SplitWhitespace| {
-            w.take(3).filter(|x| x.parse::<f32>().is_ok()).count() == 3
-        };
-        let bad = match words.next() {
-            Some("v") => {
-                nv += 1;
-                !floats(words)
-            }
-            Some("vn") => {
-                nn += 1;
-                !floats(words)
-            }
-            Some("f") => {
-                let corners: Vec<&str> = words.collect();
-                corners.len() < 3
-                    || corners.iter().any(|c| {
-                        let mut f = c.split('/');
-                        let ok_index = |s: Option<&str>, n: i64| match s {
-                            None | Some("") => true,
-                            Some(s) => s
-                                .parse::<i64>()
-                                .is_ok_and(|i| i != 0 && i.abs() <= n.max(1) && (i > 0 || -i <= n)),
-                        };
-                        let v = f.next();
-                        v.is_none_or(|v| v.is_empty())
-                            || !ok_index(v, nv)
-                            || !ok_index(f.next(), i64::MAX)
-                            || !ok_index(f.next(), nn)
-                    })
-            }
-            _ => false,
-        };
-        if bad {
-            return Some(format!("{path}:{}: bad OBJ line \"{}\"", k + 1, line.trim()));
-        }
+/// A line-by-line filter in front of tobj: it checks each line as it
+/// passes (numbers parse, face indices exist, counting `v`/`vt`/`vn` so far)
+/// and ends the input at the first bad one, remembering it for a `file:line`
+/// message. tobj itself trusts face indices (an out-of-range one overflows
+/// its arithmetic), so nothing unchecked reaches it.
+struct Checked<R> {
+    inner: R,
+    buf: Vec<u8>,
+    pos: usize,
+    line: usize,
+    counts: [i64; 3],
+    bad: Option<(usize, String)>,
+}
+
+impl<R: BufRead> Checked<R> {
+    fn new(inner: R) -> Checked<R> {
+        Checked { inner, buf: Vec::new(), pos: 0, line: 0, counts: [0; 3], bad: None }
     }
-    None
+}
+
+/// Whether `line` is one tobj can take safely; `counts` holds the `v`, `vt`
+/// and `vn` lines seen so far.
+fn line_ok(line: &str, counts: &mut [i64; 3]) -> bool {
+    let mut words = line.split_whitespace();
+    let floats = |w: std::str::SplitWhitespace, n: usize| {
+        w.take(n).filter(|x| x.parse::<f32>().is_ok()).count() == n
+    };
+    let index_ok = |p: &str, n: i64| {
+        p.is_empty()
+            || p.parse::<i64>().is_ok_and(|i| (1..=n).contains(&i) || (-n..=-1).contains(&i))
+    };
+    match words.next() {
+        Some("v") => {
+            counts[0] += 1;
+            floats(words, 3)
+        }
+        Some("vt") => {
+            counts[1] += 1;
+            floats(words, 1)
+        }
+        Some("vn") => {
+            counts[2] += 1;
+            floats(words, 3)
+        }
+        Some("f") => {
+            let mut corners = 0;
+            let all = words.all(|c| {
+                corners += 1;
+                let mut parts = c.split('/');
+                let v = parts.next().unwrap_or("");
+                !v.is_empty()
+                    && index_ok(v, counts[0])
+                    && index_ok(parts.next().unwrap_or(""), counts[1])
+                    && index_ok(parts.next().unwrap_or(""), counts[2])
+                    && parts.next().is_none()
+            });
+            all && corners >= 3
+        }
+        _ => true,
+    }
+}
+
+impl<R: BufRead> std::io::Read for Checked<R> {
+    fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+        let avail = self.fill_buf()?;
+        let n = avail.len().min(out.len());
+        out[..n].copy_from_slice(&avail[..n]);
+        self.consume(n);
+        Ok(n)
+    }
+}
+
+impl<R: BufRead> BufRead for Checked<R> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        if self.pos == self.buf.len() && self.bad.is_none() {
+            self.buf.clear();
+            self.pos = 0;
+            self.inner.read_until(b'\n', &mut self.buf)?;
+            if !self.buf.is_empty() {
+                self.line += 1;
+                let ok = std::str::from_utf8(&self.buf)
+                    .is_ok_and(|text| line_ok(text, &mut self.counts));
+                if !ok {
+                    self.bad = Some((self.line, String::from_utf8_lossy(&self.buf).into_owned()));
+                    self.buf.clear();
+                }
+            }
+        }
+        Ok(&self.buf[self.pos..])
+    }
+
+    fn consume(&mut self, n: usize) {
+        self.pos = (self.pos + n).min(self.buf.len());
+    }
 }

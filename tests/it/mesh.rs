@@ -73,6 +73,18 @@ fn bad_obj_files_are_located_errors() {
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "bad.obj:4: bad OBJ line \"f 1 2 9\""),
         ("v 0 0 zero\nf 1 1 1\n", "bad.obj:1: bad OBJ line \"v 0 0 zero\""),
         ("v 0 0 0\n", "bad.obj: the file has no faces"),
+        // Found by fuzzing: tobj multiplied an out-of-range relative normal
+        // index and overflowed (a panic in debug builds).
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//-12 3//1\n",
+            "bad.obj:5: bad OBJ line \"f 1//1 2//-12 3//1\"",
+        ),
+        (
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/99999999999999999999 3/1\n",
+            "bad.obj:5: bad OBJ line",
+        ),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n", "bad.obj:4: bad OBJ line"),
+        ("v 0 0 0\nv 1 0 0\nf 1 2\n", "bad.obj:3: bad OBJ line \"f 1 2\""),
         ("\u{0}\u{1}binary garbage\u{ff}", "bad.obj"),
     ];
     for (obj, want) in cases {
