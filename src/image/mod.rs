@@ -75,26 +75,135 @@ impl Image {
     }
 
     pub fn write(&self, w: impl Write, format: Format, enc: Encoding) -> io::Result<()> {
+        self.write_placed(w, format, enc, None)
+    }
+
+    /// Writes the image, recording where it sits in a larger picture (a
+    /// `--crop` region) so `merge` can put it back.
+    pub fn write_placed(
+        &self,
+        w: impl Write,
+        format: Format,
+        enc: Encoding,
+        at: Option<Placement>,
+    ) -> io::Result<()> {
+        let rgb = self.to_rgb8(enc);
         match format {
-            Format::Ppm => write_ppm(w, self.width, self.height, &self.to_rgb8(enc)),
-            Format::Png => write_png(w, self.width, self.height, &self.to_rgb8(enc)),
+            Format::Ppm => write_ppm_placed(w, self.width, self.height, &rgb, at),
+            Format::Png => write_png_placed(w, self.width, self.height, &rgb, at),
         }
     }
 }
 
-pub fn write_ppm(mut w: impl Write, width: u32, height: u32, rgb: &[u8]) -> io::Result<()> {
-    write!(w, "P6\n{width} {height}\n255\n")?;
+/// Where a cropped image sits: its top-left corner in the full picture,
+/// and the full picture's size. Stored in the file as the text
+/// `rayshell-crop X0 Y0 WIDTH HEIGHT` (a PPM comment, a PNG tEXt chunk).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Placement {
+    pub x0: u32,
+    pub y0: u32,
+    pub full_width: u32,
+    pub full_height: u32,
+}
+
+const PLACEMENT_KEY: &str = "rayshell-crop";
+
+impl Placement {
+    fn text(&self) -> String {
+        format!("{} {} {} {}", self.x0, self.y0, self.full_width, self.full_height)
+    }
+
+    fn parse(text: &str) -> Option<Placement> {
+        let v: Vec<u32> = text.split_whitespace().map(|w| w.parse().ok()).collect::<Option<_>>()?;
+        match v[..] {
+            [x0, y0, full_width, full_height] => {
+                Some(Placement { x0, y0, full_width, full_height })
+            }
+            _ => None,
+        }
+    }
+}
+
+pub fn write_ppm(w: impl Write, width: u32, height: u32, rgb: &[u8]) -> io::Result<()> {
+    write_ppm_placed(w, width, height, rgb, None)
+}
+
+fn write_ppm_placed(
+    mut w: impl Write,
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+    at: Option<Placement>,
+) -> io::Result<()> {
+    match at {
+        Some(p) => write!(w, "P6\n# {PLACEMENT_KEY} {}\n{width} {height}\n255\n", p.text())?,
+        None => write!(w, "P6\n{width} {height}\n255\n")?,
+    }
     w.write_all(rgb)?;
     w.flush()
 }
 
 pub fn write_png(w: impl Write, width: u32, height: u32, rgb: &[u8]) -> io::Result<()> {
+    write_png_placed(w, width, height, rgb, None)
+}
+
+fn write_png_placed(
+    w: impl Write,
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+    at: Option<Placement>,
+) -> io::Result<()> {
     let mut enc = png::Encoder::new(w, width, height);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
+    if let Some(p) = at {
+        enc.add_text_chunk(PLACEMENT_KEY.into(), p.text()).map_err(io::Error::other)?;
+    }
     let mut writer = enc.write_header().map_err(io::Error::other)?;
     writer.write_image_data(rgb).map_err(io::Error::other)?;
     writer.finish().map_err(io::Error::other)
+}
+
+/// An 8-bit RGB picture read back from a file, with its placement if it
+/// is a crop.
+pub struct Rgb8 {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<u8>,
+    pub placement: Option<Placement>,
+}
+
+/// Reads a PPM (P6, maxval 255) or an 8-bit RGB PNG, as written here.
+pub fn read_rgb8(data: &[u8]) -> Result<Rgb8, String> {
+    if data.starts_with(b"P6") {
+        let (width, height, rgb) = read_ppm(data).ok_or("not a P6 PPM with maxval 255")?;
+        // The placement comment, if any, is in the header's first lines.
+        let head = String::from_utf8_lossy(&data[..data.len().min(200)]);
+        let placement = head
+            .lines()
+            .take(3)
+            .find_map(|l| l.strip_prefix("# ")?.strip_prefix(PLACEMENT_KEY))
+            .and_then(Placement::parse);
+        return Ok(Rgb8 { width, height, rgb, placement });
+    }
+    let mut decoder = png::Decoder::new(io::Cursor::new(data));
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder.read_info().map_err(|e| format!("not a PNG or PPM: {e}"))?;
+    let placement = reader
+        .info()
+        .uncompressed_latin1_text
+        .iter()
+        .find(|t| t.keyword == PLACEMENT_KEY)
+        .and_then(|t| Placement::parse(&t.text));
+    let (width, height) = (reader.info().width, reader.info().height);
+    let mut buf = vec![0; reader.output_buffer_size().ok_or("PNG too large")?];
+    let frame = reader.next_frame(&mut buf).map_err(|e| format!("bad PNG: {e}"))?;
+    if frame.color_type != png::ColorType::Rgb || frame.bit_depth != png::BitDepth::Eight {
+        return Err("not an 8-bit RGB PNG".into());
+    }
+    buf.truncate(frame.buffer_size());
+    Ok(Rgb8 { width, height, rgb: buf, placement })
 }
 
 /// Reads a binary PPM (P6, maxval 255): (width, height, rgb bytes).

@@ -100,6 +100,12 @@ impl Exception {
         &self.trace
     }
 
+    /// Sets `errorCode` (a list such as `RAYSHELL IO`).
+    pub fn with_error_code(mut self, code: &str) -> Exception {
+        self.error_code = Some(Value::from(code));
+        self
+    }
+
     pub fn error_code(&self) -> Value {
         self.error_code.clone().unwrap_or_else(|| Value::from("NONE"))
     }

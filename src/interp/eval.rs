@@ -69,6 +69,9 @@ pub(crate) struct Frame {
     pub(crate) objv: Vec<Value>,
 }
 
+/// The `errorCode` of an interrupted script.
+pub const INTERRUPT_CODE: &str = "RAYSHELL INTERRUPT";
+
 pub struct Interp {
     pub(crate) commands: FxHashMap<String, CommandKind>,
     /// Bumped on every change to `commands`, so lookups can be cached.
@@ -81,6 +84,10 @@ pub struct Interp {
     /// Optional cap on the number of commands run (for fuzzing and
     /// sandboxes): past it every command fails.
     pub max_commands: Option<u64>,
+    /// When set (by a Ctrl-C handler, say), the next command fails with
+    /// "interrupted" and `errorCode` `INTERRUPT_CODE`; it stays set, so a
+    /// `catch` cannot swallow it for long.
+    pub interrupt: Option<&'static std::sync::atomic::AtomicBool>,
     commands_run: u64,
     pub(crate) host: Box<dyn Host>,
     rand_seed: i64,
@@ -125,6 +132,7 @@ impl Interp {
             depth: 0,
             max_depth: DEFAULT_MAX_DEPTH,
             max_commands: None,
+            interrupt: None,
             commands_run: 0,
             host,
             rand_seed: 0,
@@ -374,6 +382,11 @@ impl Interp {
     pub(crate) fn enter(&mut self) -> Result<(), Exception> {
         if self.depth >= self.max_depth {
             return Err(Exception::error("too many nested evaluations (infinite loop?)"));
+        }
+        if let Some(flag) = self.interrupt
+            && flag.load(std::sync::atomic::Ordering::Relaxed)
+        {
+            return Err(Exception::error("interrupted").with_error_code(INTERRUPT_CODE));
         }
         if let Some(max) = self.max_commands {
             self.commands_run += 1;

@@ -1,9 +1,12 @@
 //! Rendering: a recursive (Whitted) ray tracer over a frozen `Scene`, run
-//! in parallel over image rows with rayon. There is no randomness, so the
-//! picture is the same for any thread count and row order.
+//! in parallel over tiles with rayon (`job`: crops, progressive passes,
+//! progress and cancellation). There is no randomness, so the picture is the
+//! same for any thread count, tile order or pass order.
 
+mod job;
 mod tracer;
 
+pub use job::{Job, PASSES, Rect};
 pub use tracer::{
     RayStats, raybench, raybench_brute, reflect, refract, render, render_heatmap, trace,
 };

@@ -11,8 +11,9 @@
 //! geometric normal by an amount relative to the point's magnitude.
 
 use glam::Vec3;
-use rayon::prelude::*;
+use std::sync::Mutex;
 
+use super::job::{Job, per_pixel};
 use crate::geometry::{Hit, Ray, Shape};
 use crate::image::Image;
 use crate::scene::Scene;
@@ -30,7 +31,7 @@ pub struct RayStats {
 }
 
 impl RayStats {
-    fn add(self, o: RayStats) -> RayStats {
+    pub(crate) fn add(self, o: RayStats) -> RayStats {
         RayStats {
             primary: self.primary + o.primary,
             shadow: self.shadow + o.shadow,
@@ -66,66 +67,40 @@ fn offset(p: Vec3) -> f32 {
     1e-4 * p.abs().max_element().max(1.0)
 }
 
-/// Tiles are squares of this many pixels on a side.
-const TILE: u32 = 16;
-
-/// Runs `f` for every pixel, in parallel over tiles; the result does not
-/// depend on the number of threads or the order tiles finish in.
-fn per_pixel<T: Send + Copy + Default>(
-    width: u32,
-    height: u32,
-    f: impl Fn(u32, u32, &mut RayStats) -> T + Sync,
-) -> (Vec<T>, RayStats) {
-    let tiles: Vec<(u32, u32)> = (0..height.div_ceil(TILE))
-        .flat_map(|ty| (0..width.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
-        .collect();
-    let done: Vec<(Vec<T>, RayStats)> = tiles
-        .par_iter()
-        .map(|&(x0, y0)| {
-            let mut st = RayStats::default();
-            let (x1, y1) = ((x0 + TILE).min(width), (y0 + TILE).min(height));
-            let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-            for y in y0..y1 {
-                for x in x0..x1 {
-                    out.push(f(x, y, &mut st));
-                }
-            }
-            (out, st)
-        })
-        .collect();
-    let mut pixels = vec![T::default(); width as usize * height as usize];
-    let mut stats = RayStats::default();
-    for (&(x0, y0), (tile, st)) in tiles.iter().zip(done) {
-        let tw = (x0 + TILE).min(width) - x0;
-        for (k, v) in tile.into_iter().enumerate() {
-            let (x, y) = (x0 + k as u32 % tw, y0 + k as u32 / tw);
-            pixels[(y * width + x) as usize] = v;
-        }
-        stats = stats.add(st);
-    }
-    (pixels, stats)
-}
-
-/// Renders the whole image; also returns the ray counts.
-pub fn render(scene: &Scene) -> (Image, RayStats) {
+/// Renders the job's part of the picture; also returns the ray counts.
+/// `None` if the job was cancelled.
+pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let cam = &scene.camera;
-    let (pixels, stats) = per_pixel(cam.width, cam.height, |x, y, st| {
+    let r = job.rect(cam.width, cam.height);
+    let own;
+    let out = match job.canvas {
+        Some(c) => c,
+        None => {
+            own = Mutex::new(vec![Vec3::ZERO; r.pixels() as usize]);
+            &own
+        }
+    };
+    let stats = per_pixel(cam.width, cam.height, job, out, |x, y, st| {
         st.primary += 1;
         trace(scene, &cam.ray(x, y), 0, 1.0, st)
-    });
-    (Image { width: cam.width, height: cam.height, pixels }, stats)
+    })?;
+    let pixels = out.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    Some((Image { width: r.width(), height: r.height(), pixels }, stats))
 }
 
 /// The cost picture: each pixel coloured by the BVH nodes its primary ray
 /// visited, from black through blue, red and yellow to white at the most.
-pub fn render_heatmap(scene: &Scene) -> (Image, RayStats) {
+pub fn render_heatmap(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let cam = &scene.camera;
-    let (counts, stats) = per_pixel(cam.width, cam.height, |x, y, st| {
+    let r = job.rect(cam.width, cam.height);
+    let out = Mutex::new(vec![0u32; r.pixels() as usize]);
+    let stats = per_pixel(cam.width, cam.height, job, &out, |x, y, st| {
         st.primary += 1;
         let (_, visited) = scene.bvh.intersect(&cam.ray(x, y), 0.0, f32::INFINITY);
         st.nodes_visited += visited as u64;
         visited
-    });
+    })?;
+    let counts = out.into_inner().unwrap_or_else(|e| e.into_inner());
     let max = counts.iter().copied().max().unwrap_or(1).max(1) as f32;
     let ramp = [
         Vec3::ZERO,
@@ -142,7 +117,7 @@ pub fn render_heatmap(scene: &Scene) -> (Image, RayStats) {
             ramp[i].lerp(ramp[i + 1], t - i as f32)
         })
         .collect();
-    (Image { width: cam.width, height: cam.height, pixels }, stats)
+    Some((Image { width: r.width(), height: r.height(), pixels }, stats))
 }
 
 /// Times the primary rays alone (closest hit, no shading) and then, if
@@ -151,20 +126,25 @@ pub fn render_heatmap(scene: &Scene) -> (Image, RayStats) {
 pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
     let cam = &scene.camera;
     let start = std::time::Instant::now();
-    let (hits, mut stats) = per_pixel(cam.width, cam.height, |x, y, st| {
+    let job = Job::default();
+    let hits = Mutex::new(vec![Vec3::NAN; cam.width as usize * cam.height as usize]);
+    let mut stats = per_pixel(cam.width, cam.height, &job, &hits, |x, y, st| {
         st.primary += 1;
         let ray = cam.ray(x, y);
         let (hit, visited) = scene.bvh.intersect(&ray, 0.0, f32::INFINITY);
         st.nodes_visited += visited as u64;
         hit.map(|h| ray.at(h.t)).unwrap_or(Vec3::NAN)
-    });
+    })
+    .unwrap_or_default();
+    let hits = hits.into_inner().unwrap_or_else(|e| e.into_inner());
     let primary_s = start.elapsed().as_secs_f64();
     let Some(light) = scene.lights.first().filter(|_| shadow) else {
         return (primary_s, 0.0, stats);
     };
     let start = std::time::Instant::now();
     let w = cam.width;
-    let (_, st2) = per_pixel(cam.width, cam.height, |x, y, st| {
+    let blocked = Mutex::new(vec![0u8; hits.len()]);
+    let st2 = per_pixel(cam.width, cam.height, &job, &blocked, |x, y, st| {
         let p = hits[(y * w + x) as usize];
         if p.is_nan() {
             return 0u8;
@@ -177,7 +157,8 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
         let origin = p + l * eps;
         (scene.bvh.transmittance(&Ray::new(origin, l), 0.0, t_max, |_| Vec3::ZERO) == Vec3::ZERO)
             as u8
-    });
+    })
+    .unwrap_or_default();
     stats.shadow = st2.shadow;
     (primary_s, start.elapsed().as_secs_f64(), stats)
 }

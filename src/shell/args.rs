@@ -5,6 +5,8 @@ use std::path::PathBuf;
 
 use clap::Parser;
 
+use super::feedback::ProgressMode;
+
 #[derive(Parser, Debug)]
 #[command(
     name = "raytrace",
@@ -27,6 +29,41 @@ pub struct Cli {
     /// After each render, print timings, ray counts, Mrays/s and memory to stderr.
     #[arg(long)]
     pub stats: bool,
+    /// How to report progress on stderr [auto: a bar on a terminal, else a
+    /// plain line per batch frame].
+    #[arg(long, value_enum, value_name = "MODE", default_value_t = ProgressMode::Auto)]
+    pub progress: ProgressMode,
+    /// No progress output at all (same as --progress none).
+    #[arg(short, long)]
+    pub quiet: bool,
+    /// Trace in coarse-to-fine passes (the same final picture).
+    #[arg(long)]
+    pub progressive: bool,
+    /// Show renders in a window as they are traced (needs the `preview` feature).
+    #[arg(long)]
+    pub preview: bool,
+    /// Render only pixels x0..x1, y0..y1 (exclusive ends) of each picture;
+    /// the file records where the region goes, for --merge.
+    #[arg(long, num_args = 4, value_names = ["X0", "Y0", "X1", "Y1"])]
+    pub crop: Option<Vec<u32>>,
+    /// Assemble cropped renders (PARTs) into the full picture OUT.
+    #[arg(long, num_args = 2.., value_names = ["OUT", "PART"], conflicts_with_all = ["script", "command"])]
+    pub merge: Option<Vec<PathBuf>>,
+    /// Animation batch: run the script once per frame (fresh interpreter and
+    /// scene, `$frame` set) and render each frame into OUTPUT with its number
+    /// (`#` runs or a printf `%0Nd` in OUTPUT; default SCRIPT-####.png).
+    #[arg(long, value_name = "FIRST..LAST", value_parser = parse_frames)]
+    pub frames: Option<(i64, i64)>,
+    /// Every Nth frame of --frames.
+    #[arg(long, value_name = "N", default_value_t = 1, requires = "frames",
+          value_parser = clap::value_parser!(u32).range(1..))]
+    pub step: u32,
+    /// Render only the frames of shard I of N (frames at positions I, I+N, ...).
+    #[arg(long, value_name = "I/N", requires = "frames", value_parser = parse_shard)]
+    pub shard: Option<(usize, usize)>,
+    /// Leave frames whose output file already exists (reruns are idempotent).
+    #[arg(long, requires = "frames")]
+    pub skip_existing: bool,
     /// Arguments for the script, after `--` (`$argv`, `$argc`).
     #[arg(last = true)]
     pub args: Vec<String>,
@@ -41,4 +78,34 @@ pub fn parse() -> Result<Cli, u8> {
             Err(if e.use_stderr() { 2 } else { 0 })
         }
     }
+}
+
+/// `FIRST..LAST` (inclusive), or a single frame number.
+fn parse_frames(s: &str) -> Result<(i64, i64), String> {
+    let bad = || format!("expected FIRST..LAST (e.g. 0..239), got \"{s}\"");
+    let (a, b) = match s.split_once("..") {
+        Some((a, b)) => (a, b),
+        None => (s, s),
+    };
+    let a: i64 = a.trim().parse().map_err(|_| bad())?;
+    let b: i64 = b.trim().parse().map_err(|_| bad())?;
+    if b < a {
+        return Err(format!("the last frame {b} comes before the first {a}"));
+    }
+    if b - a > 10_000_000 {
+        return Err("more than 10,000,000 frames".into());
+    }
+    Ok((a, b))
+}
+
+/// `I/N` with I < N.
+fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("expected I/N with 0 <= I < N (e.g. 0/4), got \"{s}\"");
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let (i, n): (usize, usize) =
+        (i.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+    if n == 0 || i >= n {
+        return Err(bad());
+    }
+    Ok((i, n))
 }

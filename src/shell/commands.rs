@@ -301,8 +301,8 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
     let st = state.clone();
     interp.register_host(
         "render",
-        "?-srgb? ?-heatmap? fileName",
-        "trace the scene and write it (.ppm or .png); -heatmap colours pixels by BVH nodes visited",
+        "?-srgb? ?-heatmap? ?-progressive? fileName",
+        "trace the scene and write it (.ppm or .png); -heatmap colours pixels by BVH nodes visited, -progressive traces coarse-to-fine",
         move |interp, argv| render_command(interp, &s.borrow(), &st, argv),
     );
     let s = scene;
@@ -312,6 +312,28 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "?-shadow? ?-brute?",
         "trace the primary rays (and shadow rays to the first light) without shading; returns timings (-brute adds the brute-force baseline)",
         move |_, argv| raybench_command(&s.borrow(), &st, argv),
+    );
+    let st = state.clone();
+    interp.register_host(
+        "preview",
+        "?on|off?",
+        "show renders in a window as they are traced (needs the preview feature and a display)",
+        move |_, argv| {
+            check_args(argv, 1, 2, "?on|off?")?;
+            let fb = &mut st.borrow_mut().feedback;
+            match argv.get(1).map(|v| v.as_str()) {
+                None => {}
+                Some("on") if fb.preview.is_none() => {
+                    fb.preview = Some(super::preview::Preview::open().map_err(Exception::error)?);
+                }
+                Some("on") => {}
+                Some("off") => fb.preview = None,
+                Some(o) => {
+                    return Err(Exception::error(format!("bad option \"{o}\": must be on or off")));
+                }
+            }
+            Ok(Value::from(if fb.preview.is_some() { "on" } else { "off" }))
+        },
     );
     interp.register_host("stats", "", "statistics of the last render", move |_, argv| {
         check_args(argv, 1, 1, "")?;
@@ -374,18 +396,19 @@ fn render_command(
     state: &RefCell<ShellState>,
     argv: &[Value],
 ) -> Result<Value, Exception> {
-    let usage = "render ?-srgb? ?-heatmap? fileName";
+    let usage = "render ?-srgb? ?-heatmap? ?-progressive? fileName";
     if argv.len() < 2 {
         return Err(Exception::wrong_args(usage));
     }
-    let (mut enc, mut heatmap) = (Encoding::Linear, false);
+    let (mut enc, mut heatmap, mut progressive) = (Encoding::Linear, false, false);
     for o in &argv[1..argv.len() - 1] {
         match o.as_str() {
             "-srgb" => enc = Encoding::Srgb,
             "-heatmap" => heatmap = true,
+            "-progressive" => progressive = true,
             o => {
                 return Err(Exception::error(format!(
-                    "bad option \"{o}\": must be -heatmap or -srgb"
+                    "bad option \"{o}\": must be -heatmap, -progressive, or -srgb"
                 )));
             }
         }
@@ -398,21 +421,54 @@ fn render_command(
     })?;
     let write_err = |err: std::io::Error| {
         Exception::error(format!("couldn't write \"{path}\": {}", super::io_reason(&err)))
+            .with_error_code(super::IO_ERROR_CODE)
     };
     let parse_seconds = state.borrow().since_last.elapsed().as_secs_f64();
     let scene = Scene::freeze(b).map_err(scene_err)?;
+    let (width, height) = (scene.camera.width, scene.camera.height);
+    let crop = state.borrow().feedback.crop;
+    let placement = match crop {
+        Some(r) if r.x1 > width || r.y1 > height => {
+            return Err(Exception::error(format!(
+                "crop region {} {} {} {} is outside the {width}x{height} picture",
+                r.x0, r.y0, r.x1, r.y1
+            )));
+        }
+        Some(r) => Some(crate::image::Placement {
+            x0: r.x0,
+            y0: r.y0,
+            full_width: width,
+            full_height: height,
+        }),
+        None => None,
+    };
     // Open the output before the work, so a bad path fails at once.
     let mut out = super::AtomicFile::create(path).map_err(write_err)?;
     for w in scene.warnings() {
         interp.write_stderr(&format!("warning: {w}\n"))?;
     }
     let start = Instant::now();
-    let (img, rays) = if heatmap { render::render_heatmap(&scene) } else { render::render(&scene) };
-    let render_seconds = start.elapsed().as_secs_f64();
-    img.write(out.writer(), format, enc).map_err(write_err)?;
-    out.commit().map_err(write_err)?;
-    let report = RenderReport::new(&scene, parse_seconds, render_seconds, rays);
     let mut st = state.borrow_mut();
+    let default_order = st.feedback.progressive;
+    st.feedback.progressive |= progressive;
+    let done = st.feedback.watch(path, width, height, |job| {
+        if heatmap { render::render_heatmap(&scene, job) } else { render::render(&scene, job) }
+    });
+    st.feedback.progressive = default_order;
+    // Cancelled (Ctrl-C): the temporary file goes with `out`.
+    let (img, rays) = done.ok_or_else(super::interrupted)?;
+    let render_seconds = start.elapsed().as_secs_f64();
+    img.write_placed(out.writer(), format, enc, placement).map_err(write_err)?;
+    out.commit().map_err(write_err)?;
+    st.feedback.show_final(&img.pixels, img.width, img.height);
+    st.feedback.finished(&super::feedback::Finished {
+        file: path,
+        width: img.width,
+        height: img.height,
+        seconds: render_seconds,
+        rays: rays.total(),
+    });
+    let report = RenderReport::new(&scene, parse_seconds, render_seconds, rays);
     if st.print_stats {
         interp.write_stderr(&format!("{report}\n"))?;
     }

@@ -2,12 +2,18 @@
 //! command line, owns the interpreter and its I/O (`StdHost`), runs scripts,
 //! stdin or the REPL, and turns outcomes into exit codes.
 //!
-//! Exit codes: 0 success; 1 a script error (or `exit 1`); 2 a usage error;
-//! `exit N` in a script exits with N.
+//! Exit codes (for farm managers: retry only 74 and 130):
+//! 0 success; 1 a script error (or `exit 1`): retrying will not help;
+//! 2 a usage error; 74 an I/O error writing an image (disk full, a path
+//! that vanished): worth a retry; 130 interrupted (Ctrl-C, SIGTERM);
+//! 70 an internal error; `exit N` in a script exits with N.
 
 mod args;
 mod commands;
+mod feedback;
+mod frames;
 pub mod obj;
+mod preview;
 mod repl;
 mod stats;
 
@@ -16,9 +22,23 @@ use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
 use std::rc::Rc;
 
-use crate::interp::{Code, Exception, Host, Interp, Value};
+use crate::interp::{Code, Exception, Host, INTERRUPT_CODE, Interp, Value};
 
 pub use args::Cli;
+pub use feedback::ProgressMode;
+
+/// `errorCode` of a failure to write an image; the exit status is `EXIT_IO`.
+pub const IO_ERROR_CODE: &str = "RAYSHELL IO";
+pub const EXIT_SCRIPT: i32 = 1;
+pub const EXIT_USAGE: i32 = 2;
+pub const EXIT_INTERNAL: i32 = 70;
+pub const EXIT_IO: i32 = 74;
+pub const EXIT_INTERRUPTED: i32 = 130;
+
+/// The error a cancelled render or script ends with.
+pub fn interrupted() -> Exception {
+    Exception::error("interrupted").with_error_code(INTERRUPT_CODE)
+}
 
 /// Stack for the interpreter thread: deep (but bounded) Tcl recursion must
 /// hit the interpreter's own limit long before the native stack runs out.
@@ -261,12 +281,21 @@ pub fn finish(interp: &mut Interp, r: Result<Value, Exception>) -> i32 {
             }
             Code::Error => {
                 report_error(interp, &e);
-                1
+                exit_code_of(&e)
             }
         },
     };
     interp.flush();
     code
+}
+
+/// The exit status for an uncaught error, by its `errorCode`.
+pub fn exit_code_of(e: &Exception) -> i32 {
+    match e.error_code().as_str() {
+        INTERRUPT_CODE => EXIT_INTERRUPTED,
+        IO_ERROR_CODE => EXIT_IO,
+        _ => EXIT_SCRIPT,
+    }
 }
 
 fn set_argv(interp: &mut Interp, argv0: &str, args: &[String]) {
@@ -288,20 +317,64 @@ pub fn main() -> ExitCode {
         eprintln!("raytrace: cannot set up {n} threads: {e}");
         return ExitCode::from(2);
     }
+    feedback::catch_interrupts();
     // The interpreter runs on a thread with a large stack (see above).
     let code = match on_big_stack(move || run(cli)) {
         Ok(code) => code,
         _ => {
             eprintln!("raytrace: internal error (please report it)");
-            70
+            EXIT_INTERNAL
         }
     };
     ExitCode::from(code.clamp(0, 255) as u8)
 }
 
+/// A session set up as the command line asks (stats, progress, crop...).
+fn new_session(cli: &Cli) -> Result<Session, String> {
+    let mut session = Session::new(Box::new(StdHost::new()));
+    session.interp.interrupt = Some(&feedback::INTERRUPTED);
+    let mut st = session.state.borrow_mut();
+    st.print_stats = cli.stats;
+    st.feedback =
+        feedback::Feedback::new(if cli.quiet { ProgressMode::None } else { cli.progress });
+    st.feedback.progressive = cli.progressive;
+    if let Some(c) = &cli.crop {
+        let r = crate::render::Rect { x0: c[0], y0: c[1], x1: c[2], y1: c[3] };
+        if r.x1 <= r.x0 || r.y1 <= r.y0 {
+            return Err(format!(
+                "--crop {} {} {} {}: the region is empty (X1 must exceed X0, Y1 Y0)",
+                c[0], c[1], c[2], c[3]
+            ));
+        }
+        st.feedback.crop = Some(r);
+    }
+    if cli.preview {
+        st.feedback.preview = Some(preview::Preview::open()?);
+    }
+    drop(st);
+    Ok(session)
+}
+
 fn run(cli: Cli) -> i32 {
-    let session = Session::new(Box::new(StdHost::new()));
-    session.state.borrow_mut().print_stats = cli.stats;
+    if let Some(paths) = &cli.merge {
+        return match frames::merge(&paths[0], &paths[1..]) {
+            Ok(()) => 0,
+            Err((code, msg)) => {
+                eprintln!("raytrace: {msg}");
+                code
+            }
+        };
+    }
+    if cli.frames.is_some() {
+        return frames::run_batch(&cli);
+    }
+    let session = match new_session(&cli) {
+        Ok(s) => s,
+        Err(msg) => {
+            eprintln!("raytrace: {msg}");
+            return EXIT_USAGE;
+        }
+    };
     let mut interp = session.interp;
     if let Some(cmd) = &cli.command {
         set_argv(&mut interp, "raytrace", &cli.args);

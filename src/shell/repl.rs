@@ -109,6 +109,9 @@ pub fn run(interp: &mut Interp) -> i32 {
                 let _ = rl.add_history_entry(line.as_str());
                 let r = interp.eval_source(&line, None);
                 interp.flush();
+                // Ctrl-C stopped this command (a render, a loop); the
+                // session goes on.
+                super::feedback::INTERRUPTED.store(false, std::sync::atomic::Ordering::SeqCst);
                 match r {
                     Ok(v) => {
                         if !v.as_str().is_empty() {

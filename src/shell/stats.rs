@@ -3,6 +3,7 @@
 
 use std::time::Instant;
 
+use super::feedback::{Feedback, ProgressMode};
 use crate::geometry::Shape;
 use crate::render::RayStats;
 use crate::scene::Scene;
@@ -13,11 +14,18 @@ pub struct ShellState {
     /// since is reported as "parse" (running the script up to the render).
     pub since_last: Instant,
     pub last: Option<RenderReport>,
+    /// Progress, preview, crop and pass order for renders.
+    pub feedback: Feedback,
 }
 
 impl Default for ShellState {
     fn default() -> Self {
-        ShellState { print_stats: false, since_last: Instant::now(), last: None }
+        ShellState {
+            print_stats: false,
+            since_last: Instant::now(),
+            last: None,
+            feedback: Feedback::new(ProgressMode::Auto),
+        }
     }
 }
 

@@ -1,6 +1,7 @@
 //! The integration tests: one binary (ripgrep's layout).
 
 mod cli;
+mod farm;
 mod lang;
 mod mesh;
 mod render;

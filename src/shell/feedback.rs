@@ -1,0 +1,308 @@
+//! Feedback while rendering: a progress bar with ETA (indicatif) when
+//! stderr is a terminal, else plain or JSON lines; the live preview window;
+//! and Ctrl-C, which cancels the render (or the script) in progress.
+
+use std::io::IsTerminal;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use glam::Vec3;
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use super::preview::Preview;
+use crate::render::{Job, Rect};
+
+/// Set by Ctrl-C (SIGINT, SIGTERM, SIGHUP); renders and the interpreter
+/// stop soon after. The REPL clears it once it has reported the interrupt.
+pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Routes Ctrl-C to `INTERRUPTED`; a second one while the first is still
+/// pending exits at once with status 130.
+pub fn catch_interrupts() {
+    let _ = ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    });
+}
+
+/// How progress is reported on stderr.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ProgressMode {
+    /// A bar when stderr is a terminal, else a plain line per batch frame.
+    #[default]
+    Auto,
+    /// Progress bars with ETA (for renders longer than about a second).
+    Bar,
+    /// One line per finished render.
+    Plain,
+    /// One JSON object per line: progress, finished renders, skips, the batch.
+    Json,
+    /// Nothing.
+    None,
+}
+
+/// A render's place in a `--frames` batch.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInfo {
+    pub frame: i64,
+    /// 1-based position among this run's frames, and their number.
+    pub index: usize,
+    pub count: usize,
+}
+
+/// What a finished render reports.
+pub struct Finished<'a> {
+    pub file: &'a str,
+    pub width: u32,
+    pub height: u32,
+    pub seconds: f64,
+    pub rays: u64,
+}
+
+pub struct Feedback {
+    pub mode: ProgressMode,
+    /// Lines for every render (not only batch frames) in plain mode.
+    plain_every_render: bool,
+    /// Trace in coarse-to-fine passes.
+    pub progressive: bool,
+    /// Render only this part of the picture.
+    pub crop: Option<Rect>,
+    pub preview: Option<Preview>,
+    pub frame: Option<FrameInfo>,
+    multi: MultiProgress,
+    batch_bar: Option<ProgressBar>,
+}
+
+/// A bar appears only for renders longer than this.
+const BAR_DELAY: Duration = Duration::from_secs(1);
+
+impl Feedback {
+    pub fn new(mode: ProgressMode) -> Feedback {
+        let (mode, plain_every_render) = match mode {
+            ProgressMode::Auto if std::io::stderr().is_terminal() => (ProgressMode::Bar, false),
+            ProgressMode::Auto => (ProgressMode::Plain, false),
+            m => (m, true),
+        };
+        Feedback {
+            mode,
+            plain_every_render,
+            progressive: false,
+            crop: None,
+            preview: None,
+            frame: None,
+            multi: MultiProgress::with_draw_target(ProgressDrawTarget::stderr()),
+            batch_bar: None,
+        }
+    }
+
+    /// Runs `work` (a render of a `width`×`height` camera) on another
+    /// thread while this one reports progress, updates the preview and
+    /// passes Ctrl-C on as cancellation. Returns what `work` returns.
+    pub fn watch<R: Send>(
+        &mut self,
+        file: &str,
+        width: u32,
+        height: u32,
+        work: impl FnOnce(&Job) -> R + Send,
+    ) -> R {
+        let rect = self.crop.unwrap_or(Rect::full(width, height));
+        let canvas =
+            self.preview.as_ref().map(|_| Mutex::new(vec![Vec3::ZERO; rect.pixels() as usize]));
+        let job = Job {
+            crop: self.crop,
+            progressive: self.progressive,
+            cancel: Some(&INTERRUPTED),
+            canvas: canvas.as_ref(),
+            ..Job::default()
+        };
+        let total = rect.pixels().max(1);
+        let start = Instant::now();
+        let mut bar: Option<ProgressBar> = None;
+        let mut last_json = start;
+        let me = std::thread::current();
+        let result = std::thread::scope(|s| {
+            let worker = s.spawn(|| {
+                let r = work(&job);
+                me.unpark();
+                r
+            });
+            while !worker.is_finished() {
+                std::thread::park_timeout(Duration::from_millis(40));
+                let done = job.done.load(Ordering::Relaxed);
+                match self.mode {
+                    ProgressMode::Bar if bar.is_none() && start.elapsed() > BAR_DELAY => {
+                        let b = self.multi.add(ProgressBar::new(total));
+                        b.set_style(
+                            ProgressStyle::with_template(
+                                "{msg} [{bar:30}] {percent:>3}% {elapsed_precise} ETA {eta}",
+                            )
+                            .expect("a valid template")
+                            .progress_chars("=> "),
+                        );
+                        b.set_message(file.to_string());
+                        bar = Some(b);
+                    }
+                    ProgressMode::Json if last_json.elapsed() >= Duration::from_secs(1) => {
+                        last_json = Instant::now();
+                        let f = done as f64 / total as f64;
+                        let elapsed = start.elapsed().as_secs_f64();
+                        let eta = if f > 0.0 { elapsed * (1.0 - f) / f } else { -1.0 };
+                        self.json(&format!(
+                            "{{\"event\":\"progress\",\"file\":{},{}\"fraction\":{f:.4},\"elapsed_s\":{elapsed:.3},\"eta_s\":{eta:.3}}}",
+                            json_str(file),
+                            self.frame_fields()
+                        ));
+                    }
+                    _ => {}
+                }
+                if let Some(b) = &bar {
+                    b.set_position(done);
+                }
+                if let (Some(p), Some(c)) = (&mut self.preview, &canvas) {
+                    let pass = job.pass_done.load(Ordering::Relaxed) as u32;
+                    let pixels = c.lock().unwrap_or_else(|e| e.into_inner()).clone();
+                    p.show(&pixels, rect.width(), rect.height(), pass, job.progressive);
+                }
+            }
+            worker.join()
+        });
+        if let Some(b) = bar {
+            b.finish_and_clear();
+            self.multi.remove(&b);
+        }
+        match result {
+            Ok(r) => r,
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
+    }
+
+    /// Shows the finished picture in the preview window, if one is open.
+    pub fn show_final(&mut self, pixels: &[Vec3], width: u32, height: u32) {
+        if let Some(p) = &mut self.preview {
+            p.show(pixels, width, height, 1, false);
+        }
+    }
+
+    fn frame_fields(&self) -> String {
+        match self.frame {
+            Some(f) => {
+                format!("\"frame\":{},\"index\":{},\"count\":{},", f.frame, f.index, f.count)
+            }
+            None => String::new(),
+        }
+    }
+
+    fn json(&self, line: &str) {
+        self.line(line);
+    }
+
+    /// A line on stderr that does not tear the bars.
+    fn line(&self, text: &str) {
+        if self.batch_bar.is_some() {
+            let _ = self.multi.println(text);
+        } else {
+            eprintln!("{text}");
+        }
+    }
+
+    /// Reports a finished render.
+    pub fn finished(&self, r: &Finished) {
+        let mrays = r.rays as f64 / r.seconds.max(1e-9) / 1e6;
+        match self.mode {
+            ProgressMode::Json => self.json(&format!(
+                "{{\"event\":\"render\",\"file\":{},{}\"width\":{},\"height\":{},\"seconds\":{:.3},\"mrays_per_s\":{mrays:.2}}}",
+                json_str(r.file),
+                self.frame_fields(),
+                r.width,
+                r.height,
+                r.seconds
+            )),
+            ProgressMode::Plain if self.plain_every_render || self.frame.is_some() => {
+                let what = match self.frame {
+                    Some(f) => format!("frame {} ({}/{})", f.frame, f.index, f.count),
+                    None => "rendered".into(),
+                };
+                self.line(&format!(
+                    "{what}: {} {}x{} in {:.2} s ({mrays:.1} Mrays/s)",
+                    r.file, r.width, r.height, r.seconds
+                ));
+            }
+            _ => {}
+        }
+        if let Some(b) = &self.batch_bar {
+            b.inc(1);
+        }
+    }
+
+    /// Reports a frame left alone because its file exists.
+    pub fn skipped(&self, file: &str) {
+        match self.mode {
+            ProgressMode::Json => self.json(&format!(
+                "{{\"event\":\"skip\",\"file\":{},{}\"reason\":\"exists\"}}",
+                json_str(file),
+                self.frame_fields()
+            )),
+            ProgressMode::Plain | ProgressMode::Bar => {
+                if let Some(f) = self.frame {
+                    self.line(&format!(
+                        "frame {} ({}/{}): {file} exists, skipped",
+                        f.frame, f.index, f.count
+                    ));
+                }
+            }
+            _ => {}
+        }
+        if let Some(b) = &self.batch_bar {
+            b.inc(1);
+        }
+    }
+
+    /// Starts a batch of `count` frames (a bar of its own in bar mode).
+    pub fn start_batch(&mut self, count: usize) {
+        if self.mode == ProgressMode::Bar {
+            let b = self.multi.add(ProgressBar::new(count as u64));
+            b.set_style(
+                ProgressStyle::with_template(
+                    "frames {pos}/{len} [{bar:30}] {elapsed_precise} ETA {eta}",
+                )
+                .expect("a valid template")
+                .progress_chars("=> "),
+            );
+            self.batch_bar = Some(b);
+        }
+    }
+
+    /// Ends the batch: a summary line in JSON mode.
+    pub fn end_batch(&mut self, rendered: usize, skipped: usize, seconds: f64) {
+        if let Some(b) = self.batch_bar.take() {
+            b.finish_and_clear();
+        }
+        match self.mode {
+            ProgressMode::Json => self.json(&format!(
+                "{{\"event\":\"batch\",\"rendered\":{rendered},\"skipped\":{skipped},\"seconds\":{seconds:.3}}}"
+            )),
+            ProgressMode::Plain | ProgressMode::Bar => eprintln!(
+                "{rendered} frame(s) rendered, {skipped} skipped, in {seconds:.2} s"
+            ),
+            _ => {}
+        }
+    }
+}
+
+/// `s` as a JSON string literal.
+pub fn json_str(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
