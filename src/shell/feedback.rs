@@ -133,7 +133,8 @@ impl Feedback {
                 let done = job.done.load(Ordering::Relaxed);
                 match self.mode {
                     ProgressMode::Bar if bar.is_none() && start.elapsed() > BAR_DELAY => {
-                        let b = self.multi.add(ProgressBar::new(total));
+                        let b =
+                            self.multi.add(ProgressBar::new(total).with_elapsed(start.elapsed()));
                         b.set_style(
                             ProgressStyle::with_template(
                                 "{msg} [{bar:30}] {percent:>3}% {elapsed_precise} ETA {eta}",

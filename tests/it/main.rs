@@ -2,6 +2,7 @@
 
 mod cli;
 mod farm;
+mod interrupt;
 mod lang;
 mod mesh;
 mod render;

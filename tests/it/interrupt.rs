@@ -1,0 +1,147 @@
+//! Ctrl-C and kill -9 against the real binary: a cancelled render leaves
+//! no file behind, the REPL keeps its session, and an image under its
+//! final name is never truncated.
+
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use crate::util::{listing, raytrace, scratch, text};
+
+/// A render that takes seconds: many mirror spheres, a large picture.
+const SLOW: &str = "set keep 42
+camera_resolution 3000 3000
+point_light 1 1 1 0 5 0
+material 1 1 1 0.1 0.5 0.5 10 0 1
+for {set i 0} {$i < 400} {incr i} { sphere [expr {$i % 20 - 10}] [expr {$i / 20 - 10}] -20 0.7 }
+";
+
+fn signal(child: &Child, sig: &str) {
+    let ok = Command::new("kill").args([sig, &child.id().to_string()]).status().unwrap();
+    assert!(ok.success());
+}
+
+/// Waits until a temporary image file shows up in `dir` (the render has
+/// started: the output is opened before tracing).
+fn wait_for_tmp(dir: &Path, child: &mut Child) {
+    let start = Instant::now();
+    while !listing(dir).iter().any(|n| n.ends_with(".tmp")) {
+        assert!(child.try_wait().unwrap().is_none(), "raytrace ended before rendering");
+        assert!(start.elapsed() < Duration::from_secs(60), "the render never started");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn ctrl_c_in_a_batch_exits_130_and_leaves_no_file() {
+    let dir = scratch("sigint");
+    std::fs::write(dir.join("slow.tsd"), format!("{SLOW}render slow.png\n")).unwrap();
+    let mut child =
+        raytrace().arg("slow.tsd").current_dir(&dir).stderr(Stdio::piped()).spawn().unwrap();
+    wait_for_tmp(&dir, &mut child);
+    let sent = Instant::now();
+    signal(&child, "-INT");
+    let out = child.wait_with_output().unwrap();
+    let took = sent.elapsed();
+    assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).starts_with("slow.tsd:6: interrupted"), "{}", text(&out.stderr));
+    assert!(took < Duration::from_secs(5), "cancelling took {took:?}");
+    assert_eq!(listing(&dir), ["slow.tsd"], "no image, no temporary file");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn ctrl_c_in_the_repl_cancels_the_render_and_keeps_the_session() {
+    // The REPL needs a terminal: util-linux `script` gives it one, and a
+    // ^C typed there reaches raytrace as SIGINT, as from a keyboard.
+    if Command::new("script").arg("--version").output().is_err() {
+        eprintln!("skipped: `script` (util-linux) is not installed");
+        return;
+    }
+    let dir = scratch("repl-sigint");
+    let bin = env!("CARGO_BIN_EXE_raytrace");
+    let mut child = Command::new("script")
+        .args(["-qfec", bin, "/dev/null"])
+        .current_dir(&dir)
+        .env("XDG_DATA_HOME", &dir)
+        // rustyline's line mode for simple terminals: no raw mode, so lines
+        // typed ahead are kept (a raw-mode switch would flush them).
+        .env("TERM", "dumb")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut input = child.stdin.take().unwrap();
+    // Everything the terminal shows, collected as it comes.
+    let shown = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+    let mut stdout = child.stdout.take().unwrap();
+    let sink = shown.clone();
+    let reader = std::thread::spawn(move || {
+        use std::io::Read;
+        let mut buf = [0u8; 4096];
+        while let Ok(n) = stdout.read(&mut buf) {
+            if n == 0 {
+                break;
+            }
+            sink.lock().unwrap().push_str(&String::from_utf8_lossy(&buf[..n]));
+        }
+    });
+    use std::io::Write;
+    let type_line = |input: &mut std::process::ChildStdin, line: &str| {
+        writeln!(input, "{line}").unwrap();
+        input.flush().unwrap();
+    };
+    for line in SLOW.lines().chain(["render big.png"]) {
+        type_line(&mut input, line);
+    }
+    wait_for_tmp(&dir, &mut child);
+    std::thread::sleep(Duration::from_millis(200));
+    let sent = Instant::now();
+    input.write_all(b"\x03").unwrap();
+    input.flush().unwrap();
+    while listing(&dir).iter().any(|n| n.ends_with(".tmp")) {
+        assert!(sent.elapsed() < Duration::from_secs(5), "the render was not cancelled");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    type_line(&mut input, "puts \"alive $keep [file exists big.png]\"");
+    type_line(&mut input, "exit 3");
+    let status = child.wait().unwrap();
+    reader.join().unwrap();
+    let mut stderr = String::new();
+    use std::io::Read;
+    child.stderr.take().unwrap().read_to_string(&mut stderr).unwrap();
+    let all = shown.lock().unwrap().clone() + &stderr;
+    assert_eq!(status.code(), Some(3), "{all}");
+    assert!(all.contains("interrupted"), "{all}");
+    assert!(all.contains("alive 42 0"), "the session survives, with no image: {all}");
+    drop(input);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn kill_9_never_leaves_a_truncated_image() {
+    let dir = scratch("kill9");
+    // Cheap to trace, slow to write: 48 MB of PPM.
+    std::fs::write(
+        dir.join("big.tsd"),
+        "camera_resolution 4000 4000\nbackground 0.2 0.4 0.6\nrender big.ppm\n",
+    )
+    .unwrap();
+    let want = 4000 * 4000 * 3 + "P6\n4000 4000\n255\n".len() as u64;
+    for delay_ms in [0u64, 50, 150, 400] {
+        let _ = std::fs::remove_file(dir.join("big.ppm"));
+        let mut child =
+            raytrace().arg("big.tsd").current_dir(&dir).stderr(Stdio::null()).spawn().unwrap();
+        wait_for_tmp(&dir, &mut child);
+        std::thread::sleep(Duration::from_millis(delay_ms));
+        signal(&child, "-KILL");
+        let _ = child.wait();
+        if let Ok(m) = std::fs::metadata(dir.join("big.ppm")) {
+            assert_eq!(m.len(), want, "killed after {delay_ms} ms: a truncated image");
+        }
+    }
+    // Only leftovers are hidden temporary files (kill -9 cannot be caught).
+    assert!(listing(&dir).iter().all(|n| n == "big.tsd" || n == "big.ppm" || n.ends_with(".tmp")));
+    let _ = std::fs::remove_dir_all(&dir);
+}
