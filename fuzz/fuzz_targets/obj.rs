@@ -18,6 +18,6 @@ fuzz_target!(|data: &[u8]| {
     })
     .unwrap();
     if let Ok(scene) = Scene::freeze(&b) {
-        let _ = rayshell::render::render(&scene);
+        let _ = rayshell::render::render(&scene, &rayshell::render::Job::default());
     }
 });

@@ -116,7 +116,8 @@ fn line_ok(line: &str, counts: &mut [i64; 3]) -> bool {
             counts[2] += 1;
             floats(words, 3)
         }
-        Some("f") => {
+        // tobj reads `l` (polyline) corners like a face's, then drops them.
+        Some(kind @ ("f" | "l")) => {
             let mut corners = 0;
             let all = words.all(|c| {
                 corners += 1;
@@ -128,7 +129,7 @@ fn line_ok(line: &str, counts: &mut [i64; 3]) -> bool {
                     && index_ok(parts.next().unwrap_or(""), counts[2])
                     && parts.next().is_none()
             });
-            all && corners >= 3
+            all && corners >= if kind == "f" { 3 } else { 2 }
         }
         _ => true,
     }

@@ -85,6 +85,11 @@ fn bad_obj_files_are_located_errors() {
         ),
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n", "bad.obj:4: bad OBJ line"),
         ("v 0 0 0\nv 1 0 0\nf 1 2\n", "bad.obj:3: bad OBJ line \"f 1 2\""),
+        // Found by fuzzing: tobj reads `l` lines' indices as a face's too.
+        (
+            "v 1 -1 0\nv 1 0 0\nv 0 1 2\nvn 0 0 1\nvt 0 0\nl 1/-11 -2 1 -1\nf 1 2 3\n",
+            "bad.obj:6: bad OBJ line \"l 1/-11 -2 1 -1\"",
+        ),
         ("\u{0}\u{1}binary garbage\u{ff}", "bad.obj"),
     ];
     for (obj, want) in cases {
