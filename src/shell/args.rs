@@ -49,6 +49,12 @@ pub struct Cli {
     /// Assemble cropped renders (PARTs) into the full picture OUT.
     #[arg(long, num_args = 2.., value_names = ["OUT", "PART"], conflicts_with_all = ["script", "command"])]
     pub merge: Option<Vec<PathBuf>>,
+    /// Join pictures (FRAMEs, in order) into the animated PNG OUT.
+    #[arg(long, num_args = 2.., value_names = ["OUT", "FRAME"], conflicts_with_all = ["script", "command", "merge"])]
+    pub movie: Option<Vec<PathBuf>>,
+    /// Frames a second for --movie.
+    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u16).range(1..=1000))]
+    pub fps: u16,
     /// Animation batch: run the script once per frame (fresh interpreter and
     /// scene, `$frame` set) and render each frame into OUTPUT with its number
     /// (`#` runs or a printf `%0Nd` in OUTPUT; default SCRIPT-####.png).

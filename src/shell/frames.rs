@@ -203,6 +203,53 @@ pub fn merge(out: &Path, parts: &[PathBuf]) -> Result<(), (i32, String)> {
     file.commit().map_err(io)
 }
 
+/// Writes the pictures `frames` (same size) as one animated PNG (APNG,
+/// looping) at `fps` frames a second: the movie format that needs nothing
+/// but this program (`scripts/movie` prefers ffmpeg's MP4 when it is there).
+pub fn movie(out: &Path, frames: &[PathBuf], fps: u16) -> Result<(), (i32, String)> {
+    let fail = |msg: String| (EXIT_SCRIPT, msg);
+    let out_name = out.to_string_lossy().into_owned();
+    if Format::from_path(&out_name) != Some(Format::Png) {
+        return Err(fail(format!("a movie is an animated PNG: \"{out_name}\" must end in .png")));
+    }
+    let mut pictures = Vec::with_capacity(frames.len());
+    for f in frames {
+        let name = f.to_string_lossy();
+        let bytes = std::fs::read(f)
+            .map_err(|e| fail(format!("couldn't read \"{name}\": {}", super::io_reason(&e))))?;
+        let img = read_rgb8(&bytes).map_err(|e| fail(format!("\"{name}\": {e}")))?;
+        if let Some(first) = pictures.first().map(|p: &crate::image::Rgb8| (p.width, p.height))
+            && first != (img.width, img.height)
+        {
+            return Err(fail(format!(
+                "\"{name}\" is {}x{}, the first frame {}x{}",
+                img.width, img.height, first.0, first.1
+            )));
+        }
+        pictures.push(img);
+    }
+    let (w, h) = match pictures.first() {
+        Some(p) => (p.width, p.height),
+        None => return Err(fail("no frames".into())),
+    };
+    let io = |e: std::io::Error| {
+        (EXIT_IO, format!("couldn't write \"{out_name}\": {}", super::io_reason(&e)))
+    };
+    let mut file = super::AtomicFile::create(&out_name).map_err(io)?;
+    let mut enc = png::Encoder::new(file.writer(), w, h);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let png_err = |e: png::EncodingError| io(std::io::Error::other(e));
+    enc.set_animated(pictures.len() as u32, 0).map_err(png_err)?;
+    enc.set_frame_delay(1, fps.max(1)).map_err(png_err)?;
+    let mut writer = enc.write_header().map_err(png_err)?;
+    for p in &pictures {
+        writer.write_image_data(&p.rgb).map_err(png_err)?;
+    }
+    writer.finish().map_err(png_err)?;
+    file.commit().map_err(io)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -365,6 +365,15 @@ fn run(cli: Cli) -> i32 {
             }
         };
     }
+    if let Some(paths) = &cli.movie {
+        return match frames::movie(&paths[0], &paths[1..], cli.fps) {
+            Ok(()) => 0,
+            Err((code, msg)) => {
+                eprintln!("raytrace: {msg}");
+                code
+            }
+        };
+    }
     if cli.frames.is_some() {
         return frames::run_batch(&cli);
     }

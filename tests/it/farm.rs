@@ -223,3 +223,83 @@ fn progressive_and_thread_count_change_no_pixel() {
     assert_eq!(images[0], images[1]);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn movie_is_an_animated_png_of_the_frames() {
+    let dir = scratch("movie");
+    std::fs::write(dir.join("anim.tsd"), ANIM).unwrap();
+    let r = batch(&dir, &["f/f####.png", "--frames", "0..2", "-q"]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let frames: Vec<String> = listing(&dir.join("f")).iter().map(|n| format!("f/{n}")).collect();
+    let r = raytrace()
+        .args(["--movie", "m.png"])
+        .args(&frames)
+        .args(["--fps", "12"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let data = std::fs::read(dir.join("m.png")).unwrap();
+    let mut reader = png::Decoder::new(std::io::Cursor::new(&data)).read_info().unwrap();
+    let actl = reader.info().animation_control.expect("an APNG");
+    assert_eq!((actl.num_frames, actl.num_plays), (3, 0));
+    // Each movie frame is the rendered frame, pixel for pixel.
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    for f in &frames {
+        reader.next_frame(&mut buf).unwrap();
+        let fc = reader.info().frame_control.expect("a frame");
+        assert_eq!((fc.delay_num, fc.delay_den), (1, 12));
+        let want = rayshell::image::read_rgb8(&std::fs::read(dir.join(f)).unwrap()).unwrap();
+        assert_eq!(&buf[..want.rgb.len()], &want.rgb[..], "{f}");
+    }
+    // Frames of different sizes are refused.
+    std::fs::write(dir.join("small.tsd"), "camera_resolution 4 4\nambient_light 1 1 1\n").unwrap();
+    let r = raytrace().args(["small.tsd", "s.png"]).current_dir(&dir).output().unwrap();
+    assert_eq!(r.status.code(), Some(0));
+    let r = raytrace()
+        .args(["--movie", "bad.png", &frames[0], "s.png"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(r.status.code(), Some(1));
+    assert!(
+        text(&r.stderr).contains("\"s.png\" is 4x4, the first frame 40x30"),
+        "{}",
+        text(&r.stderr)
+    );
+    assert!(!dir.join("bad.png").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn gnu_parallel_shards_match_a_single_run() {
+    if std::process::Command::new("parallel").arg("--version").output().is_err() {
+        eprintln!("skipped: GNU parallel is not installed (apt-get install parallel)");
+        return;
+    }
+    let dir = scratch("parallel");
+    std::fs::write(dir.join("anim.tsd"), ANIM).unwrap();
+    let bin = env!("CARGO_BIN_EXE_raytrace");
+    // The README's command, as a farm of one machine would run it.
+    let r = std::process::Command::new("parallel")
+        .args(["--will-cite", "--halt", "now,fail=1", "-j2"])
+        .arg(format!("{bin} anim.tsd par/f####.png --frames 0..7 --shard {{}}/4 -q"))
+        .args([":::", "0", "1", "2", "3"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let r = batch(&dir, &["one/f####.png", "--frames", "0..7", "-q"]);
+    assert_eq!(r.status.code(), Some(0));
+    let names = listing(&dir.join("one"));
+    assert_eq!(names.len(), 8);
+    assert_eq!(names, listing(&dir.join("par")));
+    for n in &names {
+        assert_eq!(
+            std::fs::read(dir.join("one").join(n)).unwrap(),
+            std::fs::read(dir.join("par").join(n)).unwrap(),
+            "{n}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
