@@ -313,9 +313,7 @@ impl Interp {
             match self.eval_command(cmd) {
                 Ok(v) => result = v,
                 Err(mut e) => {
-                    if e.code == Code::Error {
-                        add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file);
-                    }
+                    add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file);
                     return Err(e);
                 }
             }
@@ -801,6 +799,20 @@ pub(crate) fn check_len(n: usize) -> Result<(), Exception> {
     if n > MAX_VALUE_LEN { Err(too_long()) } else { Ok(()) }
 }
 
+/// The most elements a list may have (64 Mi: a runaway `lappend` loop
+/// stops at a few GiB, not when the machine runs out).
+pub const MAX_LIST_LEN: usize = 1 << 26;
+
+pub(crate) fn check_list_len(n: usize) -> Result<(), Exception> {
+    if n > MAX_LIST_LEN {
+        Err(Exception::error(format!(
+            "list too long: rayshell lists are limited to {MAX_LIST_LEN} elements"
+        )))
+    } else {
+        Ok(())
+    }
+}
+
 pub(crate) fn add_trace(
     e: &mut Exception,
     text: &str,
@@ -808,6 +820,14 @@ pub(crate) fn add_trace(
     first_line: u32,
     file: &Option<Rc<str>>,
 ) {
+    if e.code != Code::Error {
+        // break/continue/return: no trace, but remember where, in case it
+        // ends up outside any loop or proc ("file:line: invoked break ...").
+        if e.loc.is_none() && file.is_some() {
+            e.loc = Some(Loc { file: file.clone(), line });
+        }
+        return;
+    }
     let text = truncate_cmd(text);
     if e.traced {
         e.trace.push_str("\n    invoked from within\n\"");

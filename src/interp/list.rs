@@ -30,6 +30,7 @@ pub fn parse_list(s: &str) -> Result<Vec<Value>, Exception> {
         if i >= b.len() {
             return Ok(out);
         }
+        super::eval::check_list_len(out.len() + 1)?;
         match b[i] {
             b'{' => {
                 let start = i + 1;

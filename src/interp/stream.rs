@@ -282,9 +282,7 @@ impl Interp {
                 Ok(())
             }
             Err(mut e) => {
-                if e.code == Code::Error {
-                    add_trace(&mut e, &text[start as usize..end as usize], line, 1, file);
-                }
+                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file);
                 Err(e)
             }
         }
@@ -323,10 +321,8 @@ impl Interp {
                     match self.eval_command(&cmd) {
                         Ok(v) => st.result = v,
                         Err(mut e) => {
-                            if e.code == Code::Error {
-                                let text = &p.src()[cmd.start as usize..cmd.end as usize];
-                                add_trace(&mut e, text, cmd.line, 1, file);
-                            }
+                            let text = &p.src()[cmd.start as usize..cmd.end as usize];
+                            add_trace(&mut e, text, cmd.line, 1, file);
                             return Err(e);
                         }
                     }

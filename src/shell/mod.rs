@@ -14,7 +14,7 @@ mod feedback;
 mod frames;
 pub mod obj;
 mod preview;
-mod repl;
+pub mod repl;
 mod stats;
 
 use std::cell::RefCell;

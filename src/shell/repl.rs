@@ -79,6 +79,43 @@ fn history_path() -> Option<PathBuf> {
     Some(dir.join("history"))
 }
 
+/// What the REPL shows after one input.
+#[derive(Debug, PartialEq, Eq)]
+pub enum Reply {
+    /// A non-empty result, printed as tclsh does.
+    Result(String),
+    Nothing,
+    /// An error message (the session goes on).
+    Error(String),
+    /// `exit N`.
+    Exit(i32),
+}
+
+/// Evaluates one complete input as the REPL does: whatever happens, the
+/// interpreter, its variables, procs and the scene stay usable.
+pub fn eval_line(interp: &mut Interp, line: &str) -> Reply {
+    let r = interp.eval_source(line, None);
+    interp.flush();
+    // Ctrl-C stopped this command (a render, a loop); the session goes on.
+    super::feedback::INTERRUPTED.store(false, std::sync::atomic::Ordering::SeqCst);
+    let shown = |v: &crate::interp::Value| match v.as_str() {
+        "" => Reply::Nothing,
+        s => Reply::Result(s.to_string()),
+    };
+    match r {
+        Ok(v) => shown(&v),
+        Err(e) => match e.code {
+            Code::Exit(n) => Reply::Exit(n),
+            Code::Error => Reply::Error(e.message().to_string()),
+            Code::Return => shown(&e.value),
+            Code::Break | Code::Continue => {
+                let w = if e.code == Code::Break { "break" } else { "continue" };
+                Reply::Error(format!("invoked \"{w}\" outside of a loop"))
+            }
+        },
+    }
+}
+
 /// Runs the REPL until Ctrl-D or `exit`; returns the exit code.
 pub fn run(interp: &mut Interp) -> i32 {
     let config =
@@ -107,33 +144,14 @@ pub fn run(interp: &mut Interp) -> i32 {
                     continue;
                 }
                 let _ = rl.add_history_entry(line.as_str());
-                let r = interp.eval_source(&line, None);
-                interp.flush();
-                // Ctrl-C stopped this command (a render, a loop); the
-                // session goes on.
-                super::feedback::INTERRUPTED.store(false, std::sync::atomic::Ordering::SeqCst);
-                match r {
-                    Ok(v) => {
-                        if !v.as_str().is_empty() {
-                            println!("{}", v.as_str());
-                        }
+                match eval_line(interp, &line) {
+                    Reply::Result(v) => println!("{v}"),
+                    Reply::Nothing => {}
+                    Reply::Error(msg) => eprintln!("{msg}"),
+                    Reply::Exit(n) => {
+                        code = n;
+                        break;
                     }
-                    Err(e) => match e.code {
-                        Code::Exit(n) => {
-                            code = n;
-                            break;
-                        }
-                        Code::Error => eprintln!("{}", e.message()),
-                        Code::Return => {
-                            if !e.value.as_str().is_empty() {
-                                println!("{}", e.value.as_str());
-                            }
-                        }
-                        Code::Break | Code::Continue => {
-                            let w = if e.code == Code::Break { "break" } else { "continue" };
-                            eprintln!("invoked \"{w}\" outside of a loop");
-                        }
-                    },
                 }
             }
             Err(ReadlineError::Interrupted) => continue,

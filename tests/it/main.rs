@@ -1,5 +1,6 @@
 //! The integration tests: one binary (ripgrep's layout).
 
+mod bad;
 mod cli;
 mod farm;
 mod interrupt;

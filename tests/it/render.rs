@@ -263,65 +263,6 @@ fn cli_renders_the_final_scene() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// (script, expected start of the error after "bad.tsd:LINE: ").
-const BAD: &[(&str, &str)] = &[
-    ("sphere 1 2 3", "wrong # args: should be \"sphere x y z radius\""),
-    ("sphere 1 2 3 4 5", "wrong # args: should be \"sphere x y z radius\""),
-    ("sphere a 0 0 1", "expected number but got \"a\""),
-    ("sphere 0 0 0 -1", "sphere radius must be positive"),
-    ("sphere 0 0 0 0", "sphere radius must be positive"),
-    ("vertex nan 0 0", "expected a finite number"),
-    ("vertex 0 inf 0", "expected a finite number"),
-    ("vertex 0 0 1e400", "expected a finite number"),
-    ("vertex 0 0 0\ntri 0 0 1", "vertex index 1 out of range: the vertex pool has 1 entries"),
-    ("vertex 0 0 0\ntri 0 0 -1", "vertex index -1 out of range"),
-    ("tri 0.5 1 2", "expected integer but got \"0.5\""),
-    (
-        "vertex 0 0 0\nntri 0 0 0 0 0 0",
-        "normal index 0 out of range: the normal pool has 0 entries",
-    ),
-    ("normal 0 0 0", "a normal must not be the zero vector"),
-    ("camera_resolution 0 10", "resolution must be at least 1x1"),
-    ("camera_resolution 1000000 1000000", "resolution 1000000x1000000 would need 11444091 MiB"),
-    ("camera_angle 180", "camera angle must be between 0 and 180 degrees"),
-    ("camera_up 0 0 0", "camera_up vector must not be the zero vector"),
-    ("camera_up 0 0 1\nrender x.ppm", "camera up vector is parallel to the view direction"),
-    ("trace_depth 1000", "trace depth must be between 0 and 64"),
-    ("material 1 1 1 0 1 0 1 0 0", "index of refraction must be positive"),
-    ("material 1 1 1 0 -1 0 1 0 1", "material Kd must not be negative"),
-    ("spot_light 1 1 1 0 0 0 0 -1 0 30 20", "spot light angles must satisfy"),
-    ("parallel_light 1 1 1 0 0 0", "light direction must not be the zero vector"),
-    ("background -1 0 0", "colour components must not be negative"),
-    ("render x.jpg", "unknown image format for \"x.jpg\""),
-    (
-        "render /nonexistent-dir/x.ppm",
-        "couldn't write \"/nonexistent-dir/x.ppm\": no such file or directory",
-    ),
-    ("sphre 0 0 0 1", "invalid command name \"sphre\""),
-];
-
-#[test]
-fn bad_input_is_a_located_error() {
-    let dir = std::env::temp_dir().join(format!("rayshell-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    for (script, want) in BAD {
-        let path = dir.join("bad.tsd");
-        std::fs::write(&path, format!("puts ok\n{script}\n")).unwrap();
-        let r = raytrace().arg("bad.tsd").current_dir(&dir).output().unwrap();
-        let err = text(&r.stderr);
-        // Failing to write is an I/O error (74: a farm may retry it).
-        let code = if want.starts_with("couldn't write") { 74 } else { 1 };
-        assert_eq!(r.status.code(), Some(code), "{script}: {err}");
-        let line = 1 + script.lines().count();
-        assert!(err.starts_with(&format!("bad.tsd:{line}: {want}")), "{script}:\n{err}");
-        assert_eq!(text(&r.stdout), "ok\n");
-    }
-    // Nothing was left behind: no partial or temporary image files.
-    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
-    assert_eq!(left, vec![std::ffi::OsString::from("bad.tsd")]);
-    let _ = std::fs::remove_dir_all(&dir);
-}
-
 #[test]
 fn no_light_warns() {
     let dir = std::env::temp_dir().join(format!("rayshell-warn-{}", std::process::id()));

@@ -4,7 +4,7 @@
 use std::cmp::Ordering;
 
 use super::super::error::{Exception, TclResult};
-use super::super::eval::{Interp, check_len};
+use super::super::eval::{Interp, check_len, check_list_len};
 
 use super::super::value::Value;
 use super::control::concat;
@@ -81,7 +81,7 @@ fn cmd_lrange(_: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_lappend(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "varName ?value ...?")?;
     interp.update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| {
-        check_len(v.as_list()?.len() + argv.len())?;
+        check_list_len(v.as_list()?.len() + argv.len())?;
         v.list_append(&argv[2..])
     })
 }
@@ -95,7 +95,7 @@ fn cmd_linsert(_: &mut Interp, argv: &[Value]) -> TclResult {
         at = at.saturating_add(1);
     }
     let at = at.clamp(0, len as i64) as usize;
-    check_len(len + argv.len())?;
+    check_list_len(len + argv.len())?;
     items.splice(at..at, argv[3..].iter().cloned());
     Ok(Value::from_list(items))
 }
@@ -357,7 +357,7 @@ fn cmd_lrepeat(_: &mut Interp, argv: &[Value]) -> TclResult {
         return Err(Exception::error(format!("bad count \"{n}\": must be integer >= 0")));
     }
     let total = (n as usize).saturating_mul(argv.len() - 2);
-    check_len(total)?;
+    check_list_len(total)?;
     let mut out = Vec::with_capacity(total);
     for _ in 0..n {
         out.extend_from_slice(&argv[2..]);
@@ -427,6 +427,12 @@ fn cmd_split(_: &mut Interp, argv: &[Value]) -> TclResult {
     if s.is_empty() {
         return Ok(Value::empty());
     }
+    let count = if seps.is_empty() {
+        s.chars().count()
+    } else {
+        s.chars().filter(|c| seps.contains(c)).count() + 1
+    };
+    check_list_len(count)?;
     let items: Vec<Value> = if seps.is_empty() {
         s.chars().map(|c| Value::from_string(c.to_string())).collect()
     } else {

@@ -1,0 +1,451 @@
+//! The bad-input corpus: every scene command with missing, extra,
+//! non-numeric, NaN and infinite arguments, impossible values, bad paths,
+//! broken syntax, runaway growth and recursion, binary garbage, huge input.
+//! Each must end with its documented exit status and a `file:line:` message,
+//! never a panic, never a partial file; and the REPL must survive each one
+//! with its variables, procs and scene intact.
+
+use rayshell::shell::repl::{Reply, eval_line};
+use rayshell::shell::{CaptureHost, Session};
+
+use crate::util::{listing, raytrace, scratch, text};
+
+/// (what, script, exit status, message). Scripts run after a first line
+/// `puts ok`, so the message starts with `bad.tsd:LINE:` where LINE is the
+/// script's last line plus one, unless the message gives its own `@LINE `.
+const CORPUS: &[(&str, &str, i32, &str)] = &[
+    ("camera_from missing", "camera_from 1 2", 1, "wrong # args: should be \"camera_from x y z\""),
+    (
+        "camera_from extra",
+        "camera_from 1 2 3 4",
+        1,
+        "wrong # args: should be \"camera_from x y z\"",
+    ),
+    ("camera_from word", "camera_from x 0 0", 1, "expected number but got \"x\""),
+    ("camera_from nan", "camera_from nan 0 0", 1, "expected a finite number but got \"NaN\""),
+    ("camera_target inf", "camera_target 0 0 inf", 1, "expected a finite number but got \"Inf\""),
+    (
+        "camera_target missing",
+        "camera_target 0 0",
+        1,
+        "wrong # args: should be \"camera_target x y z\"",
+    ),
+    ("camera_up zero", "camera_up 0 0 0", 1, "camera_up vector must not be the zero vector"),
+    (
+        "camera_up parallel",
+        "camera_up 0 0 1\nrender x.ppm",
+        1,
+        "camera up vector is parallel to the view direction",
+    ),
+    (
+        "camera_forw zero",
+        "camera_forw 0 0 0",
+        1,
+        "camera_forw direction must not be the zero vector",
+    ),
+    ("camera_angle missing", "camera_angle", 1, "wrong # args: should be \"camera_angle theta\""),
+    (
+        "camera_angle zero",
+        "camera_angle 0",
+        1,
+        "camera angle must be between 0 and 180 degrees, got 0",
+    ),
+    (
+        "camera_angle negative",
+        "camera_angle -10",
+        1,
+        "camera angle must be between 0 and 180 degrees, got -10",
+    ),
+    (
+        "camera_angle 180",
+        "camera_angle 180",
+        1,
+        "camera angle must be between 0 and 180 degrees, got 180",
+    ),
+    ("camera_angle nan", "camera_angle nan", 1, "expected a finite number but got \"NaN\""),
+    (
+        "camera_resolution zero",
+        "camera_resolution 0 10",
+        1,
+        "resolution must be at least 1x1, got 0x10",
+    ),
+    (
+        "camera_resolution missing",
+        "camera_resolution 10",
+        1,
+        "wrong # args: should be \"camera_resolution width height\"",
+    ),
+    (
+        "camera_resolution absurd",
+        "camera_resolution 1000000 1000000",
+        1,
+        "resolution 1000000x1000000 would need 11444091 MiB for the image; the limit is 64 Mpixel",
+    ),
+    (
+        "camera_resolution fraction",
+        "camera_resolution 10.5 10",
+        1,
+        "expected integer but got \"10.5\"",
+    ),
+    (
+        "camera_resolution negative",
+        "camera_resolution -5 5",
+        1,
+        "resolution must be at least 1x1, got -5x5",
+    ),
+    ("vertex missing", "vertex 1 2", 1, "wrong # args: should be \"vertex x y z\""),
+    ("vertex extra", "vertex 1 2 3 4", 1, "wrong # args: should be \"vertex x y z\""),
+    ("vertex words", "vertex a b c", 1, "expected number but got \"a\""),
+    ("vertex nan", "vertex nan 0 0", 1, "expected a finite number but got \"NaN\""),
+    ("vertex inf", "vertex 0 inf 0", 1, "expected a finite number but got \"Inf\""),
+    ("vertex overflow", "vertex 0 0 1e400", 1, "expected a finite number but got \"Inf\""),
+    ("normal zero", "normal 0 0 0", 1, "a normal must not be the zero vector"),
+    ("normal missing", "normal 1 2", 1, "wrong # args: should be \"normal x y z\""),
+    ("normal -inf", "normal -inf 0 0", 1, "expected a finite number but got \"-Inf\""),
+    (
+        "tri empty pool",
+        "tri 0 1 2",
+        1,
+        "vertex index 0 out of range: the vertex pool has 0 entries",
+    ),
+    (
+        "tri index past end",
+        "vertex 0 0 0\ntri 0 0 1",
+        1,
+        "vertex index 1 out of range: the vertex pool has 1 entries",
+    ),
+    (
+        "tri negative index",
+        "vertex 0 0 0\ntri 0 0 -1",
+        1,
+        "vertex index -1 out of range: the vertex pool has 1 entries",
+    ),
+    ("tri fraction", "tri 0.5 1 2", 1, "expected integer but got \"0.5\""),
+    ("tri missing", "tri 1 2", 1, "wrong # args: should be \"tri v1 v2 v3\""),
+    (
+        "tri huge index",
+        "vertex 0 0 0\ntri 0 0 99999999999999999999",
+        1,
+        "expected number but got \"99999999999999999999\"",
+    ),
+    ("ntri missing", "ntri 0 0 0 0 0", 1, "wrong # args: should be \"ntri v1 n1 v2 n2 v3 n3\""),
+    (
+        "ntri normal out of range",
+        "vertex 0 0 0\nntri 0 0 0 0 0 0",
+        1,
+        "normal index 0 out of range: the normal pool has 0 entries",
+    ),
+    ("sphere missing", "sphere 1 2 3", 1, "wrong # args: should be \"sphere x y z radius\""),
+    ("sphere extra", "sphere 1 2 3 4 5", 1, "wrong # args: should be \"sphere x y z radius\""),
+    ("sphere word", "sphere a 0 0 1", 1, "expected number but got \"a\""),
+    ("sphere negative radius", "sphere 0 0 0 -1", 1, "sphere radius must be positive, got -1"),
+    ("sphere zero radius", "sphere 0 0 0 0", 1, "sphere radius must be positive, got 0"),
+    ("sphere nan radius", "sphere 0 0 0 nan", 1, "expected a finite number but got \"NaN\""),
+    ("sphere inf radius", "sphere 0 0 0 inf", 1, "expected a finite number but got \"Inf\""),
+    ("background negative", "background -1 0 0", 1, "colour components must not be negative"),
+    ("background missing", "background 1 1", 1, "wrong # args: should be \"background r g b\""),
+    ("background nan", "background nan 0 0", 1, "expected a finite number but got \"NaN\""),
+    ("ambient_light word", "ambient_light 1 1 x", 1, "expected number but got \"x\""),
+    (
+        "parallel_light zero direction",
+        "parallel_light 1 1 1 0 0 0",
+        1,
+        "light direction must not be the zero vector",
+    ),
+    (
+        "parallel_light missing",
+        "parallel_light 1 1 1 0 -1",
+        1,
+        "wrong # args: should be \"parallel_light r g b x y z\"",
+    ),
+    ("point_light nan", "point_light 1 1 1 0 0 nan", 1, "expected a finite number but got \"NaN\""),
+    (
+        "spot_light angles reversed",
+        "spot_light 1 1 1 0 0 0 0 -1 0 30 20",
+        1,
+        "spot light angles must satisfy 0 <= angle1 <= angle2 <= 180, got 30 and 20",
+    ),
+    (
+        "spot_light zero axis",
+        "spot_light 1 1 1 0 0 0 0 0 0 10 20",
+        1,
+        "spot light direction must not be the zero vector",
+    ),
+    (
+        "spot_light negative angle",
+        "spot_light 1 1 1 0 0 0 0 -1 0 -5 20",
+        1,
+        "spot light angles must satisfy 0 <= angle1 <= angle2 <= 180, got -5 and 20",
+    ),
+    (
+        "material zero ior",
+        "material 1 1 1 0 1 0 1 0 0",
+        1,
+        "index of refraction must be positive, got 0",
+    ),
+    (
+        "material negative Kd",
+        "material 1 1 1 0 -1 0 1 0 1",
+        1,
+        "material Kd must not be negative, got -1",
+    ),
+    (
+        "material negative T",
+        "material 1 1 1 0 1 0 1 -0.5 1",
+        1,
+        "material T must not be negative, got -0.5",
+    ),
+    (
+        "material negative n_s",
+        "material 1 1 1 0 1 0 -1 0 1",
+        1,
+        "material n_s must not be negative, got -1",
+    ),
+    (
+        "material missing",
+        "material 1 1 1",
+        1,
+        "wrong # args: should be \"material r g b Ka Kd Ks n_s T index_of_refraction\"",
+    ),
+    (
+        "material extra",
+        "material 1 1 1 0 1 0 1 0 1 9",
+        1,
+        "wrong # args: should be \"material r g b Ka Kd Ks n_s T index_of_refraction\"",
+    ),
+    ("trace_depth huge", "trace_depth 1000", 1, "trace depth must be between 0 and 64, got 1000"),
+    ("trace_depth negative", "trace_depth -1", 1, "trace depth must be between 0 and 64, got -1"),
+    ("trace_depth fraction", "trace_depth 2.5", 1, "expected integer but got \"2.5\""),
+    (
+        "render unknown format",
+        "render x.jpg",
+        1,
+        "unknown image format for \"x.jpg\": the name must end in .ppm or .png",
+    ),
+    (
+        "render missing dir",
+        "render /nonexistent-dir/x.ppm",
+        74,
+        "couldn't write \"/nonexistent-dir/x.ppm\": no such file or directory",
+    ),
+    ("render into a file", "render bad.tsd/x.png", 74, "couldn't write \"bad.tsd/x.png\": "),
+    (
+        "render no file",
+        "render",
+        1,
+        "wrong # args: should be \"render ?-srgb? ?-heatmap? ?-progressive? fileName\"",
+    ),
+    (
+        "render bad option",
+        "render -bogus x.ppm",
+        1,
+        "bad option \"-bogus\": must be -heatmap, -progressive, or -srgb",
+    ),
+    (
+        "mesh missing file",
+        "mesh missing.obj",
+        1,
+        "couldn't read \"missing.obj\": no such file or directory",
+    ),
+    ("mesh garbage file", "mesh garbage.obj", 1, "garbage.obj:"),
+    ("mesh bad face", "mesh badface.obj", 1, "badface.obj:4: bad OBJ line \"f 1 2 7\""),
+    ("mesh zero scale", "mesh badface.obj -scale 0", 1, "mesh -scale must not be zero"),
+    (
+        "mesh bad option",
+        "mesh badface.obj -rotate 9",
+        1,
+        "bad option \"-rotate\": must be -flat, -scale, or -translate",
+    ),
+    (
+        "source missing",
+        "source missing.tsd",
+        1,
+        "couldn't read file \"missing.tsd\": no such file or directory",
+    ),
+    ("source itself", "source bad.tsd", 1, "@1 too many nested evaluations (infinite loop?)"),
+    ("unknown command", "sphre 0 0 0 1", 1, "invalid command name \"sphre\""),
+    ("unterminated quote", "puts \"abc", 1, "missing \""),
+    ("unterminated bracket", "puts [expr 1", 1, "missing close-bracket"),
+    ("unterminated brace", "proc f {} {", 1, "missing close-brace"),
+    ("chars after brace", "set x {a}b", 1, "extra characters after close-brace"),
+    ("divide by zero", "expr {1/0}", 1, "divide by zero"),
+    ("domain error", "expr {sqrt(-1)}", 1, "domain error: argument not in valid range"),
+    (
+        "infinite recursion",
+        "proc f {} {f}\nf",
+        1,
+        "@2 too many nested evaluations (infinite loop?)",
+    ),
+    (
+        "runaway string",
+        "string repeat x 2000000000",
+        1,
+        "string too long: rayshell values are limited to 1073741824 bytes",
+    ),
+    (
+        "runaway list",
+        "lrepeat 200000000 x",
+        1,
+        "list too long: rayshell lists are limited to 67108864 elements",
+    ),
+    (
+        "runaway split",
+        "split [string repeat x 100000000] {}",
+        1,
+        "list too long: rayshell lists are limited to 67108864 elements",
+    ),
+    ("array as scalar", "set a(1) 1\nset a 2", 1, "can't set \"a\": variable is array"),
+    ("break outside loop", "break", 1, "invoked \"break\" outside of a loop"),
+    ("exit code", "exit 3", 3, ""),
+];
+
+/// Inputs too big or too odd to write inline: (what, script, status, message).
+fn generated() -> Vec<(&'static str, String, i32, String)> {
+    let garbage: String = (0u8..=255).map(|b| b as char).cycle().take(4000).collect();
+    vec![
+        ("binary garbage", garbage, 1, "@2 invalid command name".into()),
+        (
+            "100,000 nested braces (balanced: fine)",
+            format!("set x {}{}", "{".repeat(100_000), "}".repeat(100_000)),
+            0,
+            String::new(),
+        ),
+        (
+            "100,000 open braces",
+            format!("set x {}", "{".repeat(100_000)),
+            1,
+            "missing close-brace".into(),
+        ),
+        (
+            "100,000 nested brackets",
+            format!("set x {}{}", "[".repeat(100_000), "]".repeat(100_000)),
+            1,
+            "too many nested brackets".into(),
+        ),
+        (
+            "a 100 MB line",
+            format!("vertex 1 2 3 {}", "7".repeat(100 << 20)),
+            1,
+            "wrong # args: should be \"vertex x y z\"".into(),
+        ),
+    ]
+}
+
+fn all_cases() -> Vec<(String, String, i32, String)> {
+    let mut v: Vec<_> = CORPUS
+        .iter()
+        .map(|(w, s, c, m)| (w.to_string(), s.to_string(), *c, m.to_string()))
+        .collect();
+    v.extend(generated().into_iter().map(|(w, s, c, m)| (w.to_string(), s, c, m)));
+    v
+}
+
+/// Files the cases refer to.
+fn setup(dir: &std::path::Path) {
+    std::fs::write(dir.join("garbage.obj"), (0u8..=255).cycle().take(1024).collect::<Vec<u8>>())
+        .unwrap();
+    std::fs::write(dir.join("badface.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap();
+}
+
+#[test]
+fn the_corpus_is_big_enough() {
+    assert!(all_cases().len() >= 60, "{} cases", all_cases().len());
+}
+
+#[test]
+fn every_bad_input_exits_with_a_located_message() {
+    let dir = scratch("bad-corpus");
+    setup(&dir);
+    for (what, script, code, msg) in all_cases() {
+        std::fs::write(dir.join("bad.tsd"), format!("puts ok\n{script}\n")).unwrap();
+        let r = raytrace().arg("bad.tsd").current_dir(&dir).output().unwrap();
+        let err = text(&r.stderr);
+        let head: String = err.chars().take(300).collect();
+        assert_eq!(r.status.code(), Some(code), "{what}: {head}");
+        if code == 0 {
+            continue;
+        }
+        assert!(text(&r.stdout).starts_with("ok\n"), "{what}: output before the error stays");
+        if !msg.is_empty() {
+            let (line, msg) = match msg.strip_prefix('@') {
+                Some(rest) => rest.split_once(' ').unwrap(),
+                None => ("", msg.as_str()),
+            };
+            let line = if line.is_empty() {
+                (2 + script.lines().count() - 1).to_string()
+            } else {
+                line.into()
+            };
+            let want = format!("bad.tsd:{line}: {msg}");
+            assert!(err.starts_with(&want), "{what}: want {want:?}\n got {head}");
+        }
+        // Nothing left behind: no partial image, no temporary file.
+        assert_eq!(listing(&dir), ["bad.tsd", "badface.obj", "garbage.obj"], "{what}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_repl_survives_every_bad_input() {
+    let dir = scratch("bad-repl");
+    setup(&dir);
+    let d = dir.clone();
+    rayshell::shell::on_big_stack(move || {
+        let mut s = Session::new(Box::new(CaptureHost::default()));
+        let i = &mut s.interp;
+        let p = |f: &str| d.join(f).to_string_lossy().into_owned();
+        for line in [
+            "set keep 42",
+            "proc twice {x} {expr {2 * $x}}",
+            "sphere 0 0 -5 1",
+            "point_light 1 1 1 0 5 0",
+        ] {
+            assert!(!matches!(eval_line(i, line), Reply::Error(_)), "{line}");
+        }
+        std::fs::write(d.join("bad.tsd"), format!("source {}\n", p("bad.tsd"))).unwrap();
+        for (what, script, code, msg) in all_cases() {
+            // The REPL runs in another directory: name files in full.
+            let full = |text: String| {
+                ["bad.tsd", "garbage.obj", "badface.obj", "missing.obj", "missing.tsd", "x.ppm"]
+                    .iter()
+                    .fold(text, |s, f| s.replace(f, &p(f)))
+            };
+            let (script, msg) = (full(script), full(msg));
+            let reply = eval_line(i, &script);
+            match (code, &reply) {
+                (0, Reply::Nothing | Reply::Result(_)) => {}
+                (3, Reply::Exit(3)) => {}
+                (_, Reply::Error(e)) => {
+                    let msg = msg
+                        .split_once(' ')
+                        .filter(|_| msg.starts_with('@'))
+                        .map_or(msg.as_str(), |m| m.1);
+                    let first = msg.split(['"', ':']).next().unwrap();
+                    assert!(e.starts_with(first), "{what}: {e}");
+                }
+                _ => panic!("{what}: {reply:?}"),
+            }
+            // (`camera_up 0 0 1` is accepted and stays: only `render` objects.)
+            eval_line(i, "camera_up 0 1 0");
+            // Variables, procs and the scene are still there.
+            assert_eq!(eval_line(i, "set keep"), Reply::Result("42".into()), "after {what}");
+            assert_eq!(eval_line(i, "twice 21"), Reply::Result("42".into()), "after {what}");
+            let b = s.scene.borrow().bounds();
+            assert!(b.min.z <= -6.0 && b.max.z >= -4.0, "after {what}: the sphere is gone");
+        }
+        // And it still renders.
+        let out = p("after.ppm");
+        assert_eq!(eval_line(i, "clear_scene"), Reply::Nothing);
+        for line in [
+            "camera_resolution 4 4",
+            "ambient_light 1 1 1",
+            "sphere 0 0 -5 1",
+            &format!("render {out}"),
+        ] {
+            assert_eq!(eval_line(i, line), Reply::Nothing, "{line}");
+        }
+    })
+    .unwrap();
+    assert!(dir.join("after.ppm").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
