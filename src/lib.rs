@@ -13,11 +13,16 @@
 //! - `geometry`: rays, boxes, spheres, watertight triangles, the BVH.
 //! - `scene`: `Builder` (mutable, checked), `Scene` (frozen), camera, lights,
 //!   materials.
-//! - `render`: the Whitted tracer, parallel over tiles.
-//! - `image`: the linear f32 image, PPM and PNG writers.
+//! - `render`: the Whitted tracer (`tracer`), parallel over tiles; `job`
+//!   says which pixels (crops), in what order (progressive passes), and
+//!   carries progress and cancellation.
+//! - `image`: the linear f32 image, PPM and PNG writers and readers (with a
+//!   crop's placement).
 //! - `shell`: the glue and the only module that touches files, the terminal,
-//!   the environment and exit codes: arguments, the REPL, the scene commands
-//!   (`commands`), OBJ loading, atomic files, statistics.
+//!   signals, the environment and exit codes: arguments, the REPL, the scene
+//!   commands (`commands`), OBJ loading, atomic files, statistics, progress
+//!   bars and Ctrl-C (`feedback`), the preview window (`preview`), animation
+//!   batches, merges and movies (`frames`).
 //!
 //! # Invariants
 //!
@@ -25,8 +30,10 @@
 //!   `render` and `image` never see interpreter values (`tests/it/tidy.rs`
 //!   checks the layering).
 //! - Only `shell` does I/O; `image` writes to `impl Write`.
-//! - Rendering reads a frozen `Scene` and uses no randomness: the picture is
-//!   the same for any thread count.
+//! - Rendering reads a frozen `Scene` and uses no randomness; each pixel
+//!   depends on its own ray only: the picture is the same for any thread
+//!   count, tile order, pass order, crop or shard.
+//! - An image reaches its final name only whole (`shell::AtomicFile`).
 //! - No input makes the program panic: bad scripts are `Exception`s with a
 //!   file and line; a panic that slips through still exits 70, never 101.
 
