@@ -95,17 +95,22 @@ struct BuildPrim {
 impl Bvh {
     /// Builds over `shapes`, copying each once into leaf order.
     pub fn build(shapes: &[Shape]) -> Bvh {
-        let mut prims: Vec<BuildPrim> = shapes
-            .par_iter()
-            .enumerate()
-            .map(|(i, s)| {
-                let b = s.bounds();
+        Bvh::build_from(shapes.len(), |i| shapes[i])
+    }
+
+    /// Builds over the `n` shapes that `shape(i)` makes (called from many
+    /// threads, twice per shape), so no unordered copy of them is kept.
+    pub fn build_from(n: usize, shape: impl Fn(usize) -> Shape + Sync) -> Bvh {
+        let mut prims: Vec<BuildPrim> = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let b = shape(i).bounds();
                 BuildPrim { bounds: b, centroid: b.centroid(), index: i as u32 }
             })
             .collect();
         let (nodes, depth) =
             if prims.is_empty() { (Vec::new(), 0) } else { build_par(&mut prims, 0, 1) };
-        let ordered = prims.par_iter().map(|p| shapes[p.index as usize]).collect();
+        let ordered = prims.par_iter().map(|p| shape(p.index as usize)).collect();
         Bvh { nodes, shapes: ordered, depth }
     }
 

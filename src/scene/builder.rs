@@ -53,7 +53,7 @@ pub struct MeshData {
 }
 
 /// A primitive as the script gave it. Triangles keep pool indices (checked
-/// when added) and are resolved to inline vertices by `resolve`, so adding
+/// when added) and are resolved to inline vertices by `shape` at render, so adding
 /// one is a bounds check and a 32-byte push, whatever the pool's size.
 #[derive(Clone, Copy, Debug)]
 pub enum Prim {
@@ -308,33 +308,33 @@ impl Builder {
         Ok(())
     }
 
-    /// The renderable shapes, with triangle vertices inline, and the number
-    /// of triangles skipped because they have no area (in parallel; the
-    /// order of `prims` is kept).
-    pub fn resolve(&self) -> (Vec<Shape>, usize) {
+    /// The primitive `i` as a renderable shape, triangle vertices inline.
+    pub fn shape(&self, i: usize) -> Shape {
+        match self.prims[i] {
+            Prim::Tri { v, n, material } => {
+                let p = v.map(|k| self.vertices[k as usize]);
+                Shape::Triangle(Triangle { p, normals: n, material })
+            }
+            Prim::MeshTri { v, n, material } => {
+                let p = v.map(|k| self.mesh_vertices[k as usize]);
+                Shape::Triangle(Triangle { p, normals: n, material })
+            }
+            Prim::Sphere { center, radius, material } => Shape::Sphere { center, radius, material },
+        }
+    }
+
+    /// The indices of the primitives to render: all but triangles with no
+    /// area (in parallel, in order).
+    pub fn live_prims(&self) -> Vec<u32> {
         use rayon::prelude::*;
-        let shapes: Vec<Shape> = self
-            .prims
-            .par_iter()
+        (0..self.prims.len() as u32)
+            .into_par_iter()
             .with_min_len(4096)
-            .filter_map(|&prim| match prim {
-                Prim::Tri { v, n, material } => {
-                    let p = v.map(|i| self.vertices[i as usize]);
-                    let t = Triangle { p, normals: n, material };
-                    has_area(&t).then_some(Shape::Triangle(t))
-                }
-                Prim::MeshTri { v, n, material } => {
-                    let p = v.map(|i| self.mesh_vertices[i as usize]);
-                    let t = Triangle { p, normals: n, material };
-                    has_area(&t).then_some(Shape::Triangle(t))
-                }
-                Prim::Sphere { center, radius, material } => {
-                    Some(Shape::Sphere { center, radius, material })
-                }
+            .filter(|&i| match self.shape(i as usize) {
+                Shape::Triangle(t) => has_area(&t),
+                Shape::Sphere { .. } => true,
             })
-            .collect();
-        let skipped = self.prims.len() - shapes.len();
-        (shapes, skipped)
+            .collect()
     }
 
     /// The bounding box of every primitive (empty when there are none).
