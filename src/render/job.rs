@@ -71,11 +71,12 @@ impl Job<'_> {
     }
 }
 
-/// Whether pixel (x, y) is traced in the pass of stride `s`.
-fn in_pass(x: u32, y: u32, s: u32) -> bool {
+/// Whether pixel (x, y) is traced in the pass of stride `s` (`first`:
+/// the first pass's stride; later passes leave out what earlier ones did).
+fn in_pass(x: u32, y: u32, s: u32, first: u32) -> bool {
     x.is_multiple_of(s)
         && y.is_multiple_of(s)
-        && (s == PASSES[0] || !x.is_multiple_of(2 * s) || !y.is_multiple_of(2 * s))
+        && (s == first || !x.is_multiple_of(2 * s) || !y.is_multiple_of(2 * s))
 }
 
 /// Runs `f` for every pixel of the job's rectangle, in parallel over tiles,
@@ -108,7 +109,7 @@ pub(crate) fn per_pixel<T: Send + Copy>(
                         return st;
                     }
                     for x in x0..x1 {
-                        if s == 1 && !job.progressive || in_pass(x, y, s) {
+                        if in_pass(x, y, s, passes[0]) {
                             done.push((x, y, f(x, y, &mut st)));
                         }
                     }

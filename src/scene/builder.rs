@@ -131,6 +131,14 @@ impl Default for Builder {
     }
 }
 
+/// `i` as an index into a pool of `size` entries.
+fn pool_index(pool: &'static str, i: i64, size: usize) -> Result<u32, SceneError> {
+    if i < 0 || i as usize >= size {
+        return Err(SceneError::IndexOutOfRange { pool, index: i, size });
+    }
+    Ok(i as u32)
+}
+
 /// False for triangles with no area (or a non-finite normal): they are
 /// skipped, with a warning, rather than rendered as slivers.
 fn has_area(t: &Triangle) -> bool {
@@ -265,25 +273,11 @@ impl Builder {
     }
 
     fn vertex_index(&self, i: i64) -> Result<u32, SceneError> {
-        if i < 0 || i as usize >= self.vertices.len() {
-            return Err(SceneError::IndexOutOfRange {
-                pool: "vertex",
-                index: i,
-                size: self.vertices.len(),
-            });
-        }
-        Ok(i as u32)
+        pool_index("vertex", i, self.vertices.len())
     }
 
     fn normal_index(&self, i: i64) -> Result<u32, SceneError> {
-        if i < 0 || i as usize >= self.normals.len() {
-            return Err(SceneError::IndexOutOfRange {
-                pool: "normal",
-                index: i,
-                size: self.normals.len(),
-            });
-        }
-        Ok(i as u32)
+        pool_index("normal", i, self.normals.len())
     }
 
     /// A flat triangle from three vertex indices (counter-clockwise).

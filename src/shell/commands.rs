@@ -449,12 +449,9 @@ fn render_command(
     }
     let start = Instant::now();
     let mut st = state.borrow_mut();
-    let default_order = st.feedback.progressive;
-    st.feedback.progressive |= progressive;
-    let done = st.feedback.watch(path, width, height, |job| {
+    let done = st.feedback.watch(path, (width, height), progressive, |job| {
         if heatmap { render::render_heatmap(&scene, job) } else { render::render(&scene, job) }
     });
-    st.feedback.progressive = default_order;
     // Cancelled (Ctrl-C): the temporary file goes with `out`.
     let (img, rays) = done.ok_or_else(super::interrupted)?;
     let render_seconds = start.elapsed().as_secs_f64();

@@ -100,11 +100,12 @@ impl Feedback {
     /// Runs `work` (a render of a `width`×`height` camera) on another
     /// thread while this one reports progress, updates the preview and
     /// passes Ctrl-C on as cancellation. Returns what `work` returns.
+    /// `progressive` asks for passes even when `self.progressive` is off.
     pub fn watch<R: Send>(
         &mut self,
         file: &str,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
+        progressive: bool,
         work: impl FnOnce(&Job) -> R + Send,
     ) -> R {
         let rect = self.crop.unwrap_or(Rect::full(width, height));
@@ -112,7 +113,7 @@ impl Feedback {
             self.preview.as_ref().map(|_| Mutex::new(vec![Vec3::ZERO; rect.pixels() as usize]));
         let job = Job {
             crop: self.crop,
-            progressive: self.progressive,
+            progressive: progressive || self.progressive,
             cancel: Some(&INTERRUPTED),
             canvas: canvas.as_ref(),
             ..Job::default()
@@ -150,7 +151,7 @@ impl Feedback {
                         let f = done as f64 / total as f64;
                         let elapsed = start.elapsed().as_secs_f64();
                         let eta = if f > 0.0 { elapsed * (1.0 - f) / f } else { -1.0 };
-                        self.json(&format!(
+                        self.line(&format!(
                             "{{\"event\":\"progress\",\"file\":{},{}\"fraction\":{f:.4},\"elapsed_s\":{elapsed:.3},\"eta_s\":{eta:.3}}}",
                             json_str(file),
                             self.frame_fields()
@@ -195,10 +196,6 @@ impl Feedback {
         }
     }
 
-    fn json(&self, line: &str) {
-        self.line(line);
-    }
-
     /// A line on stderr that does not tear the bars.
     fn line(&self, text: &str) {
         if self.batch_bar.is_some() {
@@ -212,7 +209,7 @@ impl Feedback {
     pub fn finished(&self, r: &Finished) {
         let mrays = r.rays as f64 / r.seconds.max(1e-9) / 1e6;
         match self.mode {
-            ProgressMode::Json => self.json(&format!(
+            ProgressMode::Json => self.line(&format!(
                 "{{\"event\":\"render\",\"file\":{},{}\"width\":{},\"height\":{},\"seconds\":{:.3},\"mrays_per_s\":{mrays:.2}}}",
                 json_str(r.file),
                 self.frame_fields(),
@@ -240,7 +237,7 @@ impl Feedback {
     /// Reports a frame left alone because its file exists.
     pub fn skipped(&self, file: &str) {
         match self.mode {
-            ProgressMode::Json => self.json(&format!(
+            ProgressMode::Json => self.line(&format!(
                 "{{\"event\":\"skip\",\"file\":{},{}\"reason\":\"exists\"}}",
                 json_str(file),
                 self.frame_fields()
@@ -281,7 +278,7 @@ impl Feedback {
             b.finish_and_clear();
         }
         match self.mode {
-            ProgressMode::Json => self.json(&format!(
+            ProgressMode::Json => self.line(&format!(
                 "{{\"event\":\"batch\",\"rendered\":{rendered},\"skipped\":{skipped},\"seconds\":{seconds:.3}}}"
             )),
             ProgressMode::Plain | ProgressMode::Bar => eprintln!(

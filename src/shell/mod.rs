@@ -356,23 +356,18 @@ fn new_session(cli: &Cli) -> Result<Session, String> {
 }
 
 fn run(cli: Cli) -> i32 {
+    let done = |r: Result<(), (i32, String)>| match r {
+        Ok(()) => 0,
+        Err((code, msg)) => {
+            eprintln!("raytrace: {msg}");
+            code
+        }
+    };
     if let Some(paths) = &cli.merge {
-        return match frames::merge(&paths[0], &paths[1..]) {
-            Ok(()) => 0,
-            Err((code, msg)) => {
-                eprintln!("raytrace: {msg}");
-                code
-            }
-        };
+        return done(frames::merge(&paths[0], &paths[1..]));
     }
     if let Some(paths) = &cli.movie {
-        return match frames::movie(&paths[0], &paths[1..], cli.fps) {
-            Ok(()) => 0,
-            Err((code, msg)) => {
-                eprintln!("raytrace: {msg}");
-                code
-            }
-        };
+        return done(frames::movie(&paths[0], &paths[1..], cli.fps));
     }
     if cli.frames.is_some() {
         return frames::run_batch(&cli);
