@@ -59,9 +59,12 @@ fn ctrl_c_in_the_repl_cancels_the_render_and_keeps_the_session() {
         return;
     }
     let dir = scratch("repl-sigint");
-    let bin = env!("CARGO_BIN_EXE_raytrace");
+    // `script` runs its command through $SHELL -c; `exec` makes raytrace
+    // the only process there, or dash (CI's /bin/sh) also gets the SIGINT,
+    // dies of it, and `script` reports that status instead of ours.
+    let bin = format!("exec '{}'", env!("CARGO_BIN_EXE_raytrace"));
     let mut child = Command::new("script")
-        .args(["-qfec", bin, "/dev/null"])
+        .args(["-qfec", &bin, "/dev/null"])
         .current_dir(&dir)
         .env("XDG_DATA_HOME", &dir)
         // rustyline's line mode for simple terminals: no raw mode, so lines
