@@ -4,7 +4,9 @@
 //! `intersect` finds the closest hit; `transmittance` is the any-hit query
 //! for shadow rays, which multiplies in what each surface lets through.
 
-use glam::{Vec3, Vec3A, Vec4};
+use std::cell::Cell;
+
+use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::aabb::ROBUST;
@@ -16,58 +18,99 @@ const MAX_LEAF: usize = 8;
 /// Cost of a traversal step relative to one primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 
-/// A flattened node: a leaf holds `count > 0` primitives from `offset`; an
-/// interior node's first child follows it and its second is at `offset`.
-/// The bounds sit in two SIMD lanes-of-four whose spare fourth lanes carry
-/// `offset` and `count`, encoded as normal (not denormal) floats so the
-/// slab test's arithmetic on those lanes stays fast.
+/// A node of the binary build tree: a leaf holds `count > 0` primitives
+/// from `offset`; an interior node's first child follows it and its second
+/// is at `offset`.
 #[derive(Clone, Copy, Debug)]
 struct Node {
-    lo: Vec4,
-    hi: Vec4,
+    bounds: Aabb,
+    offset: u32,
+    count: u32,
 }
-
-const TAG: u32 = 0x4000_0000;
 
 impl Node {
     fn new(bounds: Aabb, offset: u32, count: u32) -> Node {
-        debug_assert!(offset < 1 << 29 && count < 1 << 29);
-        Node {
-            lo: bounds.min.extend(f32::from_bits(TAG | offset)),
-            hi: bounds.max.extend(f32::from_bits(TAG | count)),
+        Node { bounds, offset, count }
+    }
+}
+
+/// A node of the 4-wide tree the renderer walks: the bounds of up to four
+/// children in SIMD lanes (one box test covers all four), collapsed from
+/// the binary build tree. 128 bytes, two cache lines.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct Wide {
+    /// The children's bounds by axis: lo x, hi x, lo y, hi y, lo z, hi z.
+    b: [Vec4; 6],
+    /// Child i: an interior node's index, or a leaf's first primitive.
+    child: [u32; 4],
+    /// The number of primitives in leaf child i; 0 for an interior node.
+    count: [u32; 4],
+}
+
+impl Wide {
+    /// Empty slots hold an inverted box (lo +inf, hi -inf): entered at
+    /// +inf and left at -inf on every axis, whatever the ray's direction.
+    const EMPTY: Wide = Wide {
+        b: [
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+            Vec4::INFINITY,
+            Vec4::NEG_INFINITY,
+        ],
+        child: [0; 4],
+        count: [0; 4],
+    };
+
+    fn set(&mut self, i: usize, bounds: Aabb, child: u32, count: u32) {
+        for axis in 0..3 {
+            self.b[2 * axis][i] = bounds.min[axis];
+            self.b[2 * axis + 1][i] = bounds.max[axis];
         }
+        self.child[i] = child;
+        self.count[i] = count;
     }
 
+    /// The slab test for all four children: a bit mask of those the
+    /// segment `(t_min, t_max)` enters, and their entry distances.
     #[inline(always)]
-    fn offset(&self) -> u32 {
-        self.lo.w.to_bits() & !TAG
+    fn hit(&self, r: &Slabs, t_min: f32, t_max: f32) -> (u32, Vec4) {
+        let [nx, ny, nz] = r.near;
+        let tnx = (self.b[nx] - r.org[0]) * r.inv[0];
+        let tfx = (self.b[nx ^ 1] - r.org[0]) * r.inv[0];
+        let tny = (self.b[ny] - r.org[1]) * r.inv[1];
+        let tfy = (self.b[ny ^ 1] - r.org[1]) * r.inv[1];
+        let tnz = (self.b[nz] - r.org[2]) * r.inv[2];
+        let tfz = (self.b[nz ^ 1] - r.org[2]) * r.inv[2];
+        let near = tnx.max(tny).max(tnz.max(Vec4::splat(t_min)));
+        // Robust traversal (Ize 2013): the exit widened by 2 ulps of error.
+        let far = tfx.min(tfy).min(tfz.min(Vec4::splat(t_max))) * ROBUST;
+        (near.cmple(far).bitmask(), near)
     }
+}
 
-    #[inline(always)]
-    fn count(&self) -> u32 {
-        self.hi.w.to_bits() & !TAG
-    }
+/// Per-ray constants of the 4-wide slab test: the origin and inverse
+/// direction splatted across lanes, and for each axis which of the two
+/// planes the ray meets first (so no per-lane min/max is needed).
+struct Slabs {
+    org: [Vec4; 3],
+    inv: [Vec4; 3],
+    near: [usize; 3],
+}
 
-    fn set_offset(&mut self, offset: u32) {
-        self.lo.w = f32::from_bits(TAG | offset);
-    }
-
-    fn bounds(&self) -> Aabb {
-        Aabb { min: self.lo.truncate(), max: self.hi.truncate() }
-    }
-
-    /// The slab test in SIMD lanes; the entry distance when hit.
-    #[inline(always)]
-    fn hit(&self, origin: Vec3A, inv: Vec3A, t_min: f32, t_max: f32) -> Option<f32> {
-        let t0 = (Vec3A::from_vec4(self.lo) - origin) * inv;
-        let t1 = (Vec3A::from_vec4(self.hi) - origin) * inv;
-        // Plain comparisons rather than f32::max/min: no NaN bookkeeping on
-        // the hottest path (a NaN lane widens the interval, which is safe).
-        let near = t0.min(t1).max_element();
-        let far = t0.max(t1).min_element();
-        let tn = if near > t_min { near } else { t_min };
-        let tf = if far < t_max { far } else { t_max } * ROBUST;
-        if tn <= tf { Some(tn) } else { None }
+impl Slabs {
+    fn new(ray: &Ray) -> Slabs {
+        // A zero direction component gets a huge finite inverse instead of
+        // infinity, so `0 * inv` never makes a NaN at a slab's plane.
+        let inv = |d: f32| if d.abs() < 1e-30 { 1e30f32.copysign(d) } else { d.recip() };
+        let i = [inv(ray.dir.x), inv(ray.dir.y), inv(ray.dir.z)];
+        Slabs {
+            org: [Vec4::splat(ray.origin.x), Vec4::splat(ray.origin.y), Vec4::splat(ray.origin.z)],
+            inv: [Vec4::splat(i[0]), Vec4::splat(i[1]), Vec4::splat(i[2])],
+            near: [0, 2, 4].map(|a| a + (i[a / 2] < 0.0) as usize),
+        }
     }
 }
 
@@ -80,7 +123,7 @@ pub struct BvhStats {
 }
 
 pub struct Bvh {
-    nodes: Vec<Node>,
+    nodes: Vec<Wide>,
     /// The primitives in leaf order.
     pub shapes: Vec<Shape>,
     depth: usize,
@@ -90,6 +133,14 @@ struct BuildPrim {
     bounds: Aabb,
     centroid: Vec3,
     index: u32,
+}
+
+/// A stack entry of the walk: a child reference and its entry distance.
+#[derive(Clone, Copy, Default)]
+struct Entry {
+    child: u32,
+    count: u32,
+    t: f32,
 }
 
 impl Bvh {
@@ -108,8 +159,9 @@ impl Bvh {
                 BuildPrim { bounds: b, centroid: b.centroid(), index: i as u32 }
             })
             .collect();
-        let (nodes, depth) =
-            if prims.is_empty() { (Vec::new(), 0) } else { build_par(&mut prims, 0, 1) };
+        let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, 0, 1).0 };
+        let (nodes, depth) = widen(&binary);
+        drop(binary);
         let ordered = prims.par_iter().map(|p| shape(p.index as usize)).collect();
         Bvh { nodes, shapes: ordered, depth }
     }
@@ -117,15 +169,22 @@ impl Bvh {
     pub fn stats(&self) -> BvhStats {
         BvhStats {
             nodes: self.nodes.len(),
-            leaves: self.nodes.iter().filter(|n| n.count() > 0).count(),
+            leaves: self.nodes.iter().map(|n| n.count.iter().filter(|&&c| c > 0).count()).sum(),
             depth: self.depth,
-            bytes: self.nodes.len() * std::mem::size_of::<Node>()
+            bytes: self.nodes.len() * std::mem::size_of::<Wide>()
                 + self.shapes.len() * std::mem::size_of::<Shape>(),
         }
     }
 
     pub fn bounds(&self) -> Aabb {
-        self.nodes.first().map(|n| n.bounds()).unwrap_or(Aabb::EMPTY)
+        let Some(root) = self.nodes.first() else { return Aabb::EMPTY };
+        (0..4)
+            .filter(|&i| root.b[0][i] <= root.b[1][i])
+            .map(|i| Aabb {
+                min: Vec3::new(root.b[0][i], root.b[2][i], root.b[4][i]),
+                max: Vec3::new(root.b[1][i], root.b[3][i], root.b[5][i]),
+            })
+            .fold(Aabb::EMPTY, Aabb::union)
     }
 
     /// The closest hit in `(t_min, t_max)`, and the number of nodes visited.
@@ -186,77 +245,153 @@ impl Bvh {
         through
     }
 
-    /// Walks the nodes the ray's segment overlaps, nearer child first, and
+    /// Walks the nodes the ray's segment overlaps, nearest child first, and
     /// calls `leaf` on each primitive there (with the current `t_max`, which
     /// it may shorten); `leaf` returning true stops the walk. Returns the
-    /// number of nodes visited.
+    /// number of nodes (interior and leaf) visited.
     #[inline]
     fn traverse(
         &self,
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        mut leaf: impl FnMut(&Shape, u32, &RayPre, f32, &mut f32) -> bool,
+        leaf: impl FnMut(&Shape, u32, &RayPre, f32, &mut f32) -> bool,
     ) -> u32 {
         if self.nodes.is_empty() {
             return 0;
         }
-        let inv = Vec3A::from(ray.dir.recip());
-        let origin = Vec3A::from(ray.origin);
+        // The thread's stack, reused from ray to ray (taken out while in
+        // use, so a walk inside a walk would simply start a new one).
+        let mut stack = STACK.take();
+        stack.clear();
+        let visited = self.walk(&mut stack, ray, t_min, t_max, leaf);
+        STACK.set(stack);
+        visited
+    }
+
+    #[inline(always)]
+    fn walk(
+        &self,
+        stack: &mut Vec<Entry>,
+        ray: &Ray,
+        t_min: f32,
+        t_max: &mut f32,
+        mut leaf: impl FnMut(&Shape, u32, &RayPre, f32, &mut f32) -> bool,
+    ) -> u32 {
+        let slabs = Slabs::new(ray);
         let pre = RayPre::new(ray.dir);
-        let mut stack = [(0u32, 0f32); 64];
-        let mut sp = 0;
-        let mut visited = 1;
-        let Some(t_root) = self.nodes[0].hit(origin, inv, t_min, *t_max) else { return visited };
-        let mut current = Some((0usize, t_root));
-        // Take the next node: the nearer child, else pop one, skipping nodes
-        // that start beyond the closest hit so far.
-        while let Some((node, t_enter)) = current.take().or_else(|| {
-            while sp > 0 {
-                sp -= 1;
-                let (n, t) = stack[sp];
-                if t <= *t_max {
-                    return Some((n as usize, t));
-                }
-            }
-            None
-        }) {
-            if t_enter > *t_max {
-                continue;
-            }
-            let n = &self.nodes[node];
-            let count = n.count();
-            if count > 0 {
-                let first = n.offset() as usize;
-                for (k, s) in self.shapes[first..first + count as usize].iter().enumerate() {
+        let mut visited = 0;
+        let mut current = Entry { child: 0, count: 0, t: t_min };
+        loop {
+            visited += 1;
+            if current.count > 0 {
+                let first = current.child as usize;
+                let prims = &self.shapes[first..first + current.count as usize];
+                for (k, s) in prims.iter().enumerate() {
                     if leaf(s, (first + k) as u32, &pre, t_min, t_max) {
                         return visited;
                     }
                 }
-                continue;
-            }
-            // Test both children here; go to the nearer, keep the farther.
-            let (a, b) = (node + 1, n.offset() as usize);
-            visited += 2;
-            let ta = self.nodes[a].hit(origin, inv, t_min, *t_max);
-            let tb = self.nodes[b].hit(origin, inv, t_min, *t_max);
-            current = match (ta, tb) {
-                (Some(ta), Some(tb)) => {
-                    let (near, far) =
-                        if ta <= tb { ((a, ta), (b, tb)) } else { ((b, tb), (a, ta)) };
-                    if sp < stack.len() {
-                        stack[sp] = (far.0 as u32, far.1);
-                        sp += 1;
+            } else {
+                let n = &self.nodes[current.child as usize];
+                let (mut mask, near) = n.hit(&slabs, t_min, *t_max);
+                if mask != 0 {
+                    let entry =
+                        |i: usize| Entry { child: n.child[i], count: n.count[i], t: near[i] };
+                    let i = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    if mask == 0 {
+                        current = entry(i);
+                        continue;
                     }
-                    Some(near)
+                    // Two or more: push them all, keeping that part of the
+                    // stack sorted farthest first, and take the nearest.
+                    let base = stack.len();
+                    stack.push(entry(i));
+                    while mask != 0 {
+                        let i = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        stack.push(entry(i));
+                        let mut j = stack.len() - 1;
+                        while j > base && stack[j - 1].t < stack[j].t {
+                            stack.swap(j - 1, j);
+                            j -= 1;
+                        }
+                    }
+                    if let Some(e) = stack.pop() {
+                        current = e;
+                    }
+                    continue;
                 }
-                (Some(ta), None) => Some((a, ta)),
-                (None, Some(tb)) => Some((b, tb)),
-                (None, None) => None,
-            };
+            }
+            // Pop the next node, skipping those beyond the closest hit.
+            loop {
+                match stack.pop() {
+                    None => return visited,
+                    Some(e) if e.t <= *t_max => {
+                        current = e;
+                        break;
+                    }
+                    Some(_) => {}
+                }
+            }
         }
-        visited
     }
+}
+
+thread_local! {
+    static STACK: Cell<Vec<Entry>> = const { Cell::new(Vec::new()) };
+}
+
+/// Collapses the binary build tree into the 4-wide tree: each wide node
+/// takes a binary node's children and opens the largest interior ones
+/// among them until it has four. Returns the nodes (root first,
+/// depth-first) and the depth.
+fn widen(bin: &[Node]) -> (Vec<Wide>, usize) {
+    let mut out = Vec::with_capacity(bin.len() / 3 + 1);
+    let mut depth = 0;
+    match bin.first() {
+        None => {}
+        Some(root) if root.count > 0 => {
+            let mut w = Wide::EMPTY;
+            w.set(0, root.bounds, root.offset, root.count);
+            out.push(w);
+            depth = 1;
+        }
+        Some(_) => {
+            widen_rec(bin, 0, &mut out, 1, &mut depth);
+        }
+    }
+    (out, depth)
+}
+
+fn widen_rec(bin: &[Node], i: usize, out: &mut Vec<Wide>, level: usize, depth: &mut usize) -> u32 {
+    *depth = (*depth).max(level);
+    let mut kids = [i + 1, bin[i].offset as usize, 0, 0];
+    let mut k = 2;
+    while k < 4 {
+        let open = (0..k)
+            .filter(|&j| bin[kids[j]].count == 0)
+            .map(|j| (j, bin[kids[j]].bounds.surface_area()))
+            .reduce(|a, b| if b.1 > a.1 { b } else { a });
+        let Some((j, _)) = open else { break };
+        let n = kids[j];
+        kids[j] = n + 1;
+        kids[k] = bin[n].offset as usize;
+        k += 1;
+    }
+    let me = out.len();
+    out.push(Wide::EMPTY);
+    for (slot, &c) in kids[..k].iter().enumerate() {
+        let n = &bin[c];
+        let (child, count) = if n.count > 0 {
+            (n.offset, n.count)
+        } else {
+            (widen_rec(bin, c, out, level + 1, depth), 0)
+        };
+        out[me].set(slot, n.bounds, child, count);
+    }
+    me as u32
 }
 
 fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Aabb) -> Node {
@@ -369,7 +504,7 @@ fn build_rec(
             let (left, right) = prims.split_at_mut(mid);
             build_rec(left, first, nodes, level + 1, depth);
             let second = build_rec(right, first + mid, nodes, level + 1, depth);
-            nodes[me].set_offset(second as u32);
+            nodes[me].offset = second as u32;
         }
     }
     me
@@ -398,12 +533,12 @@ fn build_par(prims: &mut [BuildPrim], first: usize, level: usize) -> (Vec<Node>,
             );
             let mut nodes = Vec::with_capacity(1 + ln.len() + rn.len());
             let mut root = inner(bounds);
-            root.set_offset((1 + ln.len()) as u32);
+            root.offset = (1 + ln.len()) as u32;
             nodes.push(root);
             let shift = |n: &Node, by: usize| {
                 let mut n = *n;
-                if n.count() == 0 {
-                    n.set_offset(n.offset() + by as u32);
+                if n.count == 0 {
+                    n.offset += by as u32;
                 }
                 n
             };

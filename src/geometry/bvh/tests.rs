@@ -70,7 +70,20 @@ fn every_primitive_is_reachable() {
         assert!(hit.t <= 1.0 + 1e-4);
     }
     let st = bvh.stats();
-    assert!(st.leaves > 0 && st.nodes >= st.leaves && st.depth < 64);
+    assert!(st.leaves >= shapes.len() / MAX_LEAF && st.depth < 64);
+    // The leaves cover the primitives exactly once, in order.
+    let mut leaves: Vec<(u32, u32)> = bvh
+        .nodes
+        .iter()
+        .flat_map(|n| (0..4).filter(|&i| n.count[i] > 0).map(|i| (n.child[i], n.count[i])))
+        .collect();
+    leaves.sort();
+    let mut next = 0;
+    for (first, count) in leaves {
+        assert_eq!(first, next);
+        next += count;
+    }
+    assert_eq!(next as usize, shapes.len());
 }
 
 #[test]
