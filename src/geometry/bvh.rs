@@ -10,13 +10,15 @@ use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 
 use super::aabb::ROBUST;
+use super::blocks::{self, Block, Pre4, Rec};
 use super::shapes::RayPre;
 use super::{Aabb, Hit, Ray, Shape};
 
 const BINS: usize = 16;
 const MAX_LEAF: usize = 8;
-/// Cost of a traversal step relative to one primitive test.
-const TRAVERSAL_COST: f32 = 1.0;
+/// Cost of a traversal step relative to testing one block of four
+/// primitives (measured best between 1 and 3 on the shared models).
+const TRAVERSAL_COST: f32 = 2.0;
 
 /// A node of the binary build tree: a leaf holds `count > 0` primitives
 /// from `offset`; an interior node's first child follows it and its second
@@ -124,8 +126,11 @@ pub struct BvhStats {
 
 pub struct Bvh {
     nodes: Vec<Wide>,
-    /// The primitives in leaf order.
-    pub shapes: Vec<Shape>,
+    /// The leaves' geometry: each leaf's triangle blocks, then its sphere
+    /// blocks.
+    blocks: Vec<Block>,
+    /// One record per primitive, in leaf order (the order of `Hit::prim`).
+    recs: Vec<Rec>,
     depth: usize,
 }
 
@@ -143,8 +148,12 @@ struct Entry {
     t: f32,
 }
 
+/// A leaf slot's `count`: its triangle blocks, and its sphere blocks
+/// shifted by this many bits.
+const SPHERE_SHIFT: u32 = 16;
+
 impl Bvh {
-    /// Builds over `shapes`, copying each once into leaf order.
+    /// Builds over `shapes`.
     pub fn build(shapes: &[Shape]) -> Bvh {
         Bvh::build_from(shapes.len(), |i| shapes[i])
     }
@@ -160,10 +169,19 @@ impl Bvh {
             })
             .collect();
         let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, 0, 1).0 };
-        let (nodes, depth) = widen(&binary);
-        drop(binary);
-        let ordered = prims.par_iter().map(|p| shape(p.index as usize)).collect();
-        Bvh { nodes, shapes: ordered, depth }
+        let mut ordered: Vec<Shape> = prims.par_iter().map(|p| shape(p.index as usize)).collect();
+        drop(prims);
+        let mut w = Widen {
+            bin: &binary,
+            shapes: &mut ordered,
+            nodes: Vec::with_capacity(binary.len() / 3 + 1),
+            blocks: Vec::with_capacity(n / 3 + 1),
+            recs: vec![Rec { at: 0, normals: [0; 3], material: 0 }; n],
+            depth: 0,
+        };
+        w.run();
+        let Widen { nodes, blocks, recs, depth, .. } = w;
+        Bvh { nodes, blocks, recs, depth }
     }
 
     pub fn stats(&self) -> BvhStats {
@@ -172,8 +190,40 @@ impl Bvh {
             leaves: self.nodes.iter().map(|n| n.count.iter().filter(|&&c| c > 0).count()).sum(),
             depth: self.depth,
             bytes: self.nodes.len() * std::mem::size_of::<Wide>()
-                + self.shapes.len() * std::mem::size_of::<Shape>(),
+                + self.blocks.len() * std::mem::size_of::<Block>()
+                + self.recs.len() * std::mem::size_of::<Rec>(),
         }
+    }
+
+    /// The number of primitives.
+    pub fn len(&self) -> usize {
+        self.recs.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.recs.is_empty()
+    }
+
+    /// Primitive `prim` (as numbered by `Hit::prim`).
+    pub fn shape(&self, prim: u32) -> Shape {
+        let rec = &self.recs[prim as usize];
+        let at = (rec.at & !blocks::SPHERE) as usize;
+        self.blocks[at / 4].shape(at % 4, rec)
+    }
+
+    /// The material of primitive `prim`.
+    pub fn material(&self, prim: u32) -> u32 {
+        self.recs[prim as usize].material
+    }
+
+    /// The number of triangles (the rest are spheres).
+    pub fn triangles(&self) -> usize {
+        self.recs.iter().filter(|r| r.at & blocks::SPHERE == 0).count()
+    }
+
+    /// Every primitive, numbered as `Hit::prim` numbers them.
+    pub fn shapes(&self) -> Vec<Shape> {
+        (0..self.recs.len() as u32).map(|i| self.shape(i)).collect()
     }
 
     pub fn bounds(&self) -> Aabb {
@@ -187,33 +237,36 @@ impl Bvh {
             .fold(Aabb::EMPTY, Aabb::union)
     }
 
-    /// The closest hit in `(t_min, t_max)`, and the number of nodes visited.
+    /// The closest hit in `(t_min, t_max)`, and the traversal steps taken
+    /// (nodes and leaf blocks: what the heatmap shows).
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> (Option<Hit>, u32) {
         let mut best: Option<Hit> = None;
         let mut t_max = t_max;
-        let visited = self.traverse(ray, t_min, &mut t_max, |s, k, pre, t_min, t_max| {
-            if let Some((t, uv)) = s.intersect(ray, pre, t_min, *t_max) {
-                *t_max = t;
-                best = Some(Hit { t, prim: k, uv });
+        let pre = Pre4::new(ray, &RayPre::new(ray.dir));
+        let visited = self.traverse(ray, t_min, &mut t_max, |tris, spheres, t_max| {
+            for b in tris {
+                let (mut mask, t, [u, v, w]) = b.triangles(&pre, t_min, *t_max);
+                while mask != 0 {
+                    let l = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    if t[l] < *t_max {
+                        *t_max = t[l];
+                        let det = u[l] + v[l] + w[l];
+                        best = Some(Hit { t: t[l], prim: b.prim[l], uv: [v[l] / det, w[l] / det] });
+                    }
+                }
+            }
+            for b in spheres {
+                for l in b.lanes() {
+                    if let Some(t) = b.sphere(l, ray, t_min, *t_max) {
+                        *t_max = t;
+                        best = Some(Hit { t, prim: b.prim[l], uv: [0.0; 2] });
+                    }
+                }
             }
             false
         });
         (best, visited)
-    }
-
-    /// The closest hit found by testing every primitive in turn: the
-    /// baseline the hierarchy is measured against (and checked against).
-    pub fn intersect_brute(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
-        let pre = RayPre::new(ray.dir);
-        let mut best: Option<Hit> = None;
-        let mut t_max = t_max;
-        for (k, s) in self.shapes.iter().enumerate() {
-            if let Some((t, uv)) = s.intersect(ray, &pre, t_min, t_max) {
-                t_max = t;
-                best = Some(Hit { t, prim: k as u32, uv });
-            }
-        }
-        best
     }
 
     /// What reaches the end of a shadow segment: the product of `pass(prim)`
@@ -228,17 +281,30 @@ impl Bvh {
     ) -> Vec3 {
         let mut through = Vec3::ONE;
         let mut t_end = t_max;
-        self.traverse(ray, t_min, &mut t_end, |s, k, pre, t_min, t_max| {
-            let mut from = t_min;
-            while let Some((t, _)) = s.intersect(ray, pre, from, *t_max) {
-                through *= pass(k);
-                if through == Vec3::ZERO {
-                    return true;
+        let pre = Pre4::new(ray, &RayPre::new(ray.dir));
+        self.traverse(ray, t_min, &mut t_end, |tris, spheres, t_max| {
+            for b in tris {
+                let (mut mask, _, _) = b.triangles(&pre, t_min, *t_max);
+                while mask != 0 {
+                    let l = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    through *= pass(b.prim[l]);
+                    if through == Vec3::ZERO {
+                        return true;
+                    }
                 }
-                if !matches!(s, Shape::Sphere { .. }) {
-                    break;
+            }
+            for b in spheres {
+                for l in b.lanes() {
+                    let mut from = t_min;
+                    while let Some(t) = b.sphere(l, ray, from, *t_max) {
+                        through *= pass(b.prim[l]);
+                        if through == Vec3::ZERO {
+                            return true;
+                        }
+                        from = t;
+                    }
                 }
-                from = t;
             }
             false
         });
@@ -246,16 +312,17 @@ impl Bvh {
     }
 
     /// Walks the nodes the ray's segment overlaps, nearest child first, and
-    /// calls `leaf` on each primitive there (with the current `t_max`, which
-    /// it may shorten); `leaf` returning true stops the walk. Returns the
-    /// number of nodes (interior and leaf) visited.
+    /// calls `leaf` on each leaf's triangle and sphere blocks (with the
+    /// current `t_max`, which it may shorten); `leaf` returning true stops
+    /// the walk. Returns the number of steps: nodes entered (a leaf counts
+    /// as one) plus blocks tested.
     #[inline]
     fn traverse(
         &self,
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        leaf: impl FnMut(&Shape, u32, &RayPre, f32, &mut f32) -> bool,
+        leaf: impl FnMut(&[Block], &[Block], &mut f32) -> bool,
     ) -> u32 {
         if self.nodes.is_empty() {
             return 0;
@@ -276,21 +343,22 @@ impl Bvh {
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        mut leaf: impl FnMut(&Shape, u32, &RayPre, f32, &mut f32) -> bool,
+        mut leaf: impl FnMut(&[Block], &[Block], &mut f32) -> bool,
     ) -> u32 {
         let slabs = Slabs::new(ray);
-        let pre = RayPre::new(ray.dir);
         let mut visited = 0;
         let mut current = Entry { child: 0, count: 0, t: t_min };
         loop {
             visited += 1;
             if current.count > 0 {
                 let first = current.child as usize;
-                let prims = &self.shapes[first..first + current.count as usize];
-                for (k, s) in prims.iter().enumerate() {
-                    if leaf(s, (first + k) as u32, &pre, t_min, t_max) {
-                        return visited;
-                    }
+                let tris = (current.count & ((1 << SPHERE_SHIFT) - 1)) as usize;
+                let spheres = (current.count >> SPHERE_SHIFT) as usize;
+                visited += (tris + spheres) as u32;
+                let blocks = &self.blocks[first..first + tris + spheres];
+                let (tris, spheres) = blocks.split_at(tris);
+                if leaf(tris, spheres, t_max) {
+                    return visited;
                 }
             } else {
                 let n = &self.nodes[current.child as usize];
@@ -345,53 +413,77 @@ thread_local! {
 
 /// Collapses the binary build tree into the 4-wide tree: each wide node
 /// takes a binary node's children and opens the largest interior ones
-/// among them until it has four. Returns the nodes (root first,
-/// depth-first) and the depth.
-fn widen(bin: &[Node]) -> (Vec<Wide>, usize) {
-    let mut out = Vec::with_capacity(bin.len() / 3 + 1);
-    let mut depth = 0;
-    match bin.first() {
-        None => {}
-        Some(root) if root.count > 0 => {
-            let mut w = Wide::EMPTY;
-            w.set(0, root.bounds, root.offset, root.count);
-            out.push(w);
-            depth = 1;
-        }
-        Some(_) => {
-            widen_rec(bin, 0, &mut out, 1, &mut depth);
-        }
-    }
-    (out, depth)
+/// among them until it has four. Leaves become blocks of four, triangles
+/// first. Nodes are laid out root first, depth-first.
+struct Widen<'a> {
+    bin: &'a [Node],
+    /// The primitives in leaf order (each leaf's are reordered, triangles
+    /// first, as they are packed).
+    shapes: &'a mut [Shape],
+    nodes: Vec<Wide>,
+    blocks: Vec<Block>,
+    recs: Vec<Rec>,
+    depth: usize,
 }
 
-fn widen_rec(bin: &[Node], i: usize, out: &mut Vec<Wide>, level: usize, depth: &mut usize) -> u32 {
-    *depth = (*depth).max(level);
-    let mut kids = [i + 1, bin[i].offset as usize, 0, 0];
-    let mut k = 2;
-    while k < 4 {
-        let open = (0..k)
-            .filter(|&j| bin[kids[j]].count == 0)
-            .map(|j| (j, bin[kids[j]].bounds.surface_area()))
-            .reduce(|a, b| if b.1 > a.1 { b } else { a });
-        let Some((j, _)) = open else { break };
-        let n = kids[j];
-        kids[j] = n + 1;
-        kids[k] = bin[n].offset as usize;
-        k += 1;
+impl Widen<'_> {
+    fn run(&mut self) {
+        match self.bin.first() {
+            None => {}
+            Some(&root) if root.count > 0 => {
+                let mut w = Wide::EMPTY;
+                let (child, count) = self.leaf(&root);
+                w.set(0, root.bounds, child, count);
+                self.nodes.push(w);
+                self.depth = 1;
+            }
+            Some(_) => {
+                self.node(0, 1);
+            }
+        }
     }
-    let me = out.len();
-    out.push(Wide::EMPTY);
-    for (slot, &c) in kids[..k].iter().enumerate() {
-        let n = &bin[c];
-        let (child, count) = if n.count > 0 {
-            (n.offset, n.count)
-        } else {
-            (widen_rec(bin, c, out, level + 1, depth), 0)
-        };
-        out[me].set(slot, n.bounds, child, count);
+
+    /// Packs a binary leaf's primitives; returns its slot's child and count.
+    fn leaf(&mut self, n: &Node) -> (u32, u32) {
+        let (first, count) = (n.offset as usize, n.count as usize);
+        let mine = &mut self.shapes[first..first + count];
+        // Stable: triangles first, then spheres.
+        mine.sort_by_key(|s| matches!(s, Shape::Sphere { .. }));
+        let tris = mine.iter().take_while(|s| matches!(s, Shape::Triangle(_))).count();
+        let start = self.blocks.len() as u32;
+        Block::pack(&mine[..tris], first as u32, &mut self.blocks, &mut self.recs);
+        let tri_blocks = self.blocks.len() as u32 - start;
+        Block::pack(&mine[tris..], (first + tris) as u32, &mut self.blocks, &mut self.recs);
+        let sphere_blocks = self.blocks.len() as u32 - start - tri_blocks;
+        (start, tri_blocks | sphere_blocks << SPHERE_SHIFT)
     }
-    me as u32
+
+    fn node(&mut self, i: usize, level: usize) -> u32 {
+        self.depth = self.depth.max(level);
+        let bin = self.bin;
+        let mut kids = [i + 1, bin[i].offset as usize, 0, 0];
+        let mut k = 2;
+        while k < 4 {
+            let open = (0..k)
+                .filter(|&j| bin[kids[j]].count == 0)
+                .map(|j| (j, bin[kids[j]].bounds.surface_area()))
+                .reduce(|a, b| if b.1 > a.1 { b } else { a });
+            let Some((j, _)) = open else { break };
+            let n = kids[j];
+            kids[j] = n + 1;
+            kids[k] = bin[n].offset as usize;
+            k += 1;
+        }
+        let me = self.nodes.len();
+        self.nodes.push(Wide::EMPTY);
+        for (slot, &c) in kids[..k].iter().enumerate() {
+            let n = &bin[c];
+            let (child, count) =
+                if n.count > 0 { self.leaf(n) } else { (self.node(c, level + 1), 0) };
+            self.nodes[me].set(slot, n.bounds, child, count);
+        }
+        me as u32
+    }
 }
 
 fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Aabb) -> Node {
@@ -410,8 +502,15 @@ enum Split {
 /// Decides how to split `prims` (reordering them) with the surface area
 /// heuristic over `BINS` buckets along the widest centroid axis.
 fn split(prims: &mut [BuildPrim], (bounds, cbounds): (Aabb, Aabb), level: usize) -> Split {
-    if prims.len() <= 2 || level >= 60 {
+    // Past 60 levels (only adversarial inputs get there) halve the list:
+    // leaves never exceed MAX_LEAF and the depth stays under 60 + 32.
+    let halve =
+        || if prims.len() <= MAX_LEAF { Split::Leaf } else { Split::Inner(prims.len() / 2) };
+    if prims.len() <= 2 {
         return Split::Leaf;
+    }
+    if level >= 60 {
+        return halve();
     }
     let ext = cbounds.extent();
     let axis = if ext.x >= ext.y && ext.x >= ext.z {
@@ -425,7 +524,7 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): (Aabb, Aabb), level: usize)
     let span = ext[axis];
     if span <= 0.0 || !span.is_finite() {
         // All centroids coincide: split in the middle of the list.
-        return if prims.len() <= MAX_LEAF { Split::Leaf } else { Split::Inner(prims.len() / 2) };
+        return halve();
     }
     let scale = BINS as f32 / span;
     let bin_of = |c: Vec3| (((c[axis] - lo) * scale) as usize).min(BINS - 1);
@@ -453,14 +552,18 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): (Aabb, Aabb), level: usize)
         if n == 0 || right_count[i + 1] == 0 {
             continue;
         }
-        let cost = acc.surface_area() * n as f32 + right_area[i + 1] * right_count[i + 1] as f32;
+        let cost =
+            acc.surface_area() * blocks_of(n) + right_area[i + 1] * blocks_of(right_count[i + 1]);
         if cost < best.0 {
             best = (cost, i);
         }
     }
     let area = bounds.surface_area().max(f32::MIN_POSITIVE);
     let split_cost = TRAVERSAL_COST + best.0 / area;
-    if best.0.is_infinite() || (split_cost >= prims.len() as f32 && prims.len() <= MAX_LEAF) {
+    if best.0.is_infinite() {
+        return halve();
+    }
+    if split_cost >= blocks_of(prims.len()) && prims.len() <= MAX_LEAF {
         return Split::Leaf;
     }
     let mut i = 0;
@@ -471,6 +574,11 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): (Aabb, Aabb), level: usize)
         }
     }
     Split::Inner(if i == 0 || i == prims.len() { prims.len() / 2 } else { i })
+}
+
+/// What testing `n` primitives costs: leaves test them four at a time.
+fn blocks_of(n: usize) -> f32 {
+    n.div_ceil(4) as f32
 }
 
 /// The bounds of the primitives and of their centroids, in one pass.

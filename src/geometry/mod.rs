@@ -3,6 +3,7 @@
 //! there is no global epsilon.
 
 mod aabb;
+mod blocks;
 mod bvh;
 mod ray;
 mod shapes;
@@ -11,5 +12,6 @@ pub use aabb::Aabb;
 pub use bvh::{Bvh, BvhStats};
 pub use ray::Ray;
 pub use shapes::{
-    Hit, RayPre, Shape, Triangle, intersect_sphere, intersect_triangle, intersect_triangle_f64,
+    Hit, RayPre, Shape, Triangle, intersect_brute, intersect_sphere, intersect_triangle,
+    intersect_triangle_f64,
 };

@@ -77,8 +77,8 @@ pub struct Hit {
 #[derive(Clone, Copy, Debug)]
 pub struct RayPre {
     /// The axes permuted so the ray's largest direction component is z.
-    k: [usize; 3],
-    s: Vec3,
+    pub(crate) k: [usize; 3],
+    pub(crate) s: Vec3,
 }
 
 impl RayPre {
@@ -101,6 +101,22 @@ impl RayPre {
             s: Vec3::new(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]),
         }
     }
+}
+
+/// The closest hit found by testing every primitive in turn: the baseline
+/// the hierarchy is measured (and checked) against. `Hit::prim` indexes
+/// `shapes`.
+pub fn intersect_brute(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+    let pre = RayPre::new(ray.dir);
+    let mut best: Option<Hit> = None;
+    let mut t_max = t_max;
+    for (k, s) in shapes.iter().enumerate() {
+        if let Some((t, uv)) = s.intersect(ray, &pre, t_min, t_max) {
+            t_max = t;
+            best = Some(Hit { t, prim: k as u32, uv });
+        }
+    }
+    best
 }
 
 /// Ray-sphere: the nearest root in `(t_min, t_max)`, computed in the

@@ -73,10 +73,11 @@ impl Job<'_> {
 
 /// Whether pixel (x, y) is traced in the pass of stride `s` (`first`:
 /// the first pass's stride; later passes leave out what earlier ones did).
+/// The strides are powers of two, so this is all masks, no division.
 fn in_pass(x: u32, y: u32, s: u32, first: u32) -> bool {
-    x.is_multiple_of(s)
-        && y.is_multiple_of(s)
-        && (s == first || !x.is_multiple_of(2 * s) || !y.is_multiple_of(2 * s))
+    debug_assert!(s.is_power_of_two());
+    let (on, on2) = (s - 1, 2 * s - 1);
+    (x | y) & on == 0 && (s == first || x & on2 != 0 || y & on2 != 0)
 }
 
 /// Runs `f` for every pixel of the job's rectangle, in parallel over tiles,

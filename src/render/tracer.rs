@@ -14,7 +14,7 @@ use glam::Vec3;
 use std::sync::Mutex;
 
 use super::job::{Job, per_pixel};
-use crate::geometry::{Hit, Ray, Shape};
+use crate::geometry::{Hit, Ray, Shape, intersect_brute};
 use crate::image::Image;
 use crate::scene::Scene;
 
@@ -27,7 +27,7 @@ pub struct RayStats {
     pub shadow: u64,
     pub reflected: u64,
     pub refracted: u64,
-    pub nodes_visited: u64,
+    pub bvh_steps: u64,
 }
 
 impl RayStats {
@@ -37,7 +37,7 @@ impl RayStats {
             shadow: self.shadow + o.shadow,
             reflected: self.reflected + o.reflected,
             refracted: self.refracted + o.refracted,
-            nodes_visited: self.nodes_visited + o.nodes_visited,
+            bvh_steps: self.bvh_steps + o.bvh_steps,
         }
     }
 
@@ -97,7 +97,7 @@ pub fn render_heatmap(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let stats = per_pixel(cam.width, cam.height, job, &out, |x, y, st| {
         st.primary += 1;
         let (_, visited) = scene.bvh.intersect(&cam.ray(x, y), 0.0, f32::INFINITY);
-        st.nodes_visited += visited as u64;
+        st.bvh_steps += visited as u64;
         visited
     })?;
     let counts = out.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -132,7 +132,7 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
         st.primary += 1;
         let ray = cam.ray(x, y);
         let (hit, visited) = scene.bvh.intersect(&ray, 0.0, f32::INFINITY);
-        st.nodes_visited += visited as u64;
+        st.bvh_steps += visited as u64;
         hit.map(|h| ray.at(h.t)).unwrap_or(Vec3::NAN)
     })
     .unwrap_or_default();
@@ -170,7 +170,8 @@ pub fn raybench_brute(scene: &Scene, budget: u64) -> (u64, f64) {
     use rayon::prelude::*;
     let cam = &scene.camera;
     let pixels = cam.width as u64 * cam.height as u64;
-    let prims = scene.bvh.shapes.len().max(1) as u64;
+    let shapes = scene.bvh.shapes();
+    let prims = shapes.len().max(1) as u64;
     let rays = (budget / prims).clamp(1, pixels);
     let stride = pixels / rays;
     let start = std::time::Instant::now();
@@ -179,7 +180,7 @@ pub fn raybench_brute(scene: &Scene, budget: u64) -> (u64, f64) {
         .map(|k| {
             let i = k * stride;
             let ray = cam.ray((i % cam.width as u64) as u32, (i / cam.width as u64) as u32);
-            scene.bvh.intersect_brute(&ray, 0.0, f32::INFINITY).is_some() as u64
+            intersect_brute(&shapes, &ray, 0.0, f32::INFINITY).is_some() as u64
         })
         .sum();
     std::hint::black_box(hits);
@@ -189,7 +190,7 @@ pub fn raybench_brute(scene: &Scene, budget: u64) -> (u64, f64) {
 /// The colour seen along `ray`, `depth` bounces deep.
 pub fn trace(scene: &Scene, ray: &Ray, depth: u32, weight: f32, st: &mut RayStats) -> Vec3 {
     let (hit, visited) = scene.bvh.intersect(ray, 0.0, f32::INFINITY);
-    st.nodes_visited += visited as u64;
+    st.bvh_steps += visited as u64;
     match hit {
         Some(h) => shade(scene, ray, &h, depth, weight, st),
         None => scene.background,
@@ -197,14 +198,14 @@ pub fn trace(scene: &Scene, ray: &Ray, depth: u32, weight: f32, st: &mut RayStat
 }
 
 fn shade(scene: &Scene, ray: &Ray, hit: &Hit, depth: u32, weight: f32, st: &mut RayStats) -> Vec3 {
-    let shape = &scene.bvh.shapes[hit.prim as usize];
+    let shape = scene.bvh.shape(hit.prim);
     let m = &scene.materials[shape.material() as usize];
     let p = ray.at(hit.t);
     let d = ray.dir.normalize();
     // Geometric and shading normals, outward (counter-clockwise) first.
     let (mut ng, mut ns) = match shape {
         Shape::Sphere { center, .. } => {
-            let n = (p - *center).normalize();
+            let n = (p - center).normalize();
             (n, n)
         }
         Shape::Triangle(t) => {
@@ -246,7 +247,7 @@ fn shade(scene: &Scene, ray: &Ray, hit: &Hit, depth: u32, weight: f32, st: &mut 
         st.shadow += 1;
         let t_max = if dist.is_finite() { dist - 2.0 * eps } else { f32::INFINITY };
         let through = scene.bvh.transmittance(&Ray::new(above, l), 0.0, t_max, |prim| {
-            let om = &scene.materials[scene.bvh.shapes[prim as usize].material() as usize];
+            let om = &scene.materials[scene.bvh.material(prim) as usize];
             if om.t > 0.0 { om.t * om.color } else { Vec3::ZERO }
         });
         if through == Vec3::ZERO {

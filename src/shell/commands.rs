@@ -302,7 +302,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
     interp.register_host(
         "render",
         "?-srgb? ?-heatmap? ?-progressive? fileName",
-        "trace the scene and write it (.ppm or .png); -heatmap colours pixels by BVH nodes visited, -progressive traces coarse-to-fine",
+        "trace the scene and write it (.ppm or .png); -heatmap colours pixels by BVH traversal steps, -progressive traces coarse-to-fine",
         move |interp, argv| render_command(interp, &s.borrow(), &st, argv),
     );
     let s = scene;
@@ -509,8 +509,10 @@ fn raybench_command(
         Value::from("bvh_nodes"),
         Value::from_int(report.nodes as i64),
         Value::from("bytes_per_triangle"),
+        Value::from_f64(report.bytes_per_triangle()),
+        Value::from("bvh_steps_per_ray"),
+        Value::from_f64(rays.bvh_steps as f64 / n.max(1.0)),
     ];
-    out.push(Value::from_f64(report.bytes_per_triangle()));
     if brute {
         // About 2e8 ray-primitive tests: a second or two.
         let (rays, seconds) = render::raybench_brute(&scene, 200_000_000);

@@ -4,7 +4,6 @@
 use std::time::Instant;
 
 use super::feedback::{Feedback, ProgressMode};
-use crate::geometry::Shape;
 use crate::render::RayStats;
 use crate::scene::Scene;
 
@@ -61,13 +60,13 @@ impl RenderReport {
         rays: RayStats,
     ) -> RenderReport {
         let st = scene.bvh.stats();
-        let triangles = scene.bvh.shapes.iter().filter(|s| matches!(s, Shape::Triangle(_))).count();
+        let triangles = scene.bvh.triangles();
         RenderReport {
             parse_seconds,
             build_seconds: scene.build_seconds,
             nodes: st.nodes,
             depth: st.depth,
-            primitives: scene.bvh.shapes.len(),
+            primitives: scene.bvh.len(),
             triangles,
             geometry_bytes: st.bytes + scene.normals.len() * 12,
             render_seconds,
@@ -100,12 +99,12 @@ impl std::fmt::Display for RenderReport {
         let r = &self.rays;
         writeln!(
             f,
-            "rays       {} primary, {} shadow, {} reflected, {} refracted ({:.1} BVH nodes per ray)",
+            "rays       {} primary, {} shadow, {} reflected, {} refracted ({:.1} BVH steps per ray)",
             r.primary,
             r.shadow,
             r.reflected,
             r.refracted,
-            r.nodes_visited as f64 / (r.primary + r.reflected + r.refracted).max(1) as f64
+            r.bvh_steps as f64 / (r.primary + r.reflected + r.refracted).max(1) as f64
         )?;
         writeln!(
             f,

@@ -37,13 +37,19 @@ fn same_hits_as_brute_force() {
     let mut seed = 7;
     let shapes = random_scene(3000, &mut seed);
     let bvh = Bvh::build(&shapes);
-    assert_eq!(bvh.shapes.len(), shapes.len());
+    assert_eq!(bvh.len(), shapes.len());
     for _ in 0..3000 {
         let o = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 14.0 - 2.0;
         let d = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) - 0.5;
         let ray = Ray::new(o, d);
-        let got = bvh.intersect(&ray, 0.0, f32::INFINITY).0.map(|h| h.t);
+        let hit = bvh.intersect(&ray, 0.0, f32::INFINITY).0;
+        let got = hit.map(|h| h.t);
         assert_eq!(got, brute(&shapes, &ray), "ray {o} {d}");
+        // The hit names the primitive that is there, with its barycentrics.
+        if let Some(h) = hit {
+            let alone = bvh.shape(h.prim).intersect(&ray, &RayPre::new(d), 0.0, f32::INFINITY);
+            assert_eq!(alone, Some((h.t, h.uv)));
+        }
         // Any-hit agrees with closest-hit about occlusion.
         let blocked = bvh.transmittance(&ray, 0.0, f32::INFINITY, |_| Vec3::ZERO) == Vec3::ZERO;
         assert_eq!(blocked, got.is_some());
@@ -55,7 +61,7 @@ fn every_primitive_is_reachable() {
     let mut seed = 99;
     let shapes = random_scene(500, &mut seed);
     let bvh = Bvh::build(&shapes);
-    for (i, s) in bvh.shapes.iter().enumerate() {
+    for (i, s) in bvh.shapes().iter().enumerate() {
         // A ray from just outside each primitive's centre towards it hits it
         // or something in front of it, never nothing.
         let c = s.bounds().centroid();
@@ -71,19 +77,15 @@ fn every_primitive_is_reachable() {
     }
     let st = bvh.stats();
     assert!(st.leaves >= shapes.len() / MAX_LEAF && st.depth < 64);
-    // The leaves cover the primitives exactly once, in order.
-    let mut leaves: Vec<(u32, u32)> = bvh
-        .nodes
-        .iter()
-        .flat_map(|n| (0..4).filter(|&i| n.count[i] > 0).map(|i| (n.child[i], n.count[i])))
-        .collect();
-    leaves.sort();
-    let mut next = 0;
-    for (first, count) in leaves {
-        assert_eq!(first, next);
-        next += count;
-    }
-    assert_eq!(next as usize, shapes.len());
+    // The blocks hold every primitive exactly once: the same shapes, reordered.
+    let key = |s: &Shape| format!("{s:?}");
+    let mut want: Vec<String> = shapes.iter().map(key).collect();
+    let mut got: Vec<String> = bvh.shapes().iter().map(key).collect();
+    want.sort();
+    got.sort();
+    assert_eq!(got, want);
+    let lanes: usize = bvh.blocks.iter().map(|b| b.lanes().count()).sum();
+    assert_eq!(lanes, shapes.len());
 }
 
 #[test]
@@ -102,7 +104,7 @@ fn parallel_build_finds_the_same_hits() {
     let mut seed = 3;
     let shapes = random_scene(3 * PARALLEL_BUILD, &mut seed);
     let bvh = Bvh::build(&shapes);
-    assert_eq!(bvh.shapes.len(), shapes.len());
+    assert_eq!(bvh.len(), shapes.len());
     for _ in 0..300 {
         let o = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 14.0 - 2.0;
         let d = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) - 0.5;

@@ -1,0 +1,168 @@
+//! Leaf geometry in blocks of four: the BVH's leaves store their triangles
+//! (or spheres) four to a block, coordinates in SIMD lanes, so one pass of
+//! the watertight test covers four triangles. Each lane does exactly the
+//! arithmetic of the scalar test in `shapes`, so the hits are the same to
+//! the bit. What shading needs besides positions lives in one `Rec` per
+//! primitive.
+
+use glam::{Vec3, Vec4};
+
+use super::shapes::{RayPre, intersect_sphere};
+use super::{Ray, Shape, Triangle};
+
+/// A lane with no primitive: its coordinates are NaN, which no test
+/// accepts.
+pub(super) const NONE: u32 = u32::MAX;
+
+/// Four triangles (or spheres) of one leaf.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(16))]
+pub(super) struct Block {
+    /// Triangles: x, y, z of vertex 0, then of vertex 1, then of vertex 2.
+    /// Spheres: centre x, y, z and radius; the rest unused.
+    pub v: [Vec4; 9],
+    /// Each lane's primitive (an index into the records), or `NONE`.
+    pub prim: [u32; 4],
+}
+
+/// Set in `Rec::at` for a sphere.
+pub(super) const SPHERE: u32 = 1 << 31;
+
+/// One primitive in leaf order: where its geometry is (block * 4 + lane,
+/// with `SPHERE` for spheres), its vertex normals and material.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Rec {
+    pub at: u32,
+    pub normals: [u32; 3],
+    pub material: u32,
+}
+
+impl Block {
+    const EMPTY: Block = Block { v: [Vec4::NAN; 9], prim: [NONE; 4] };
+
+    /// Packs `shapes` (all triangles or all spheres), the primitives from
+    /// `first` on, into blocks appended to `blocks`, and their records.
+    pub fn pack(shapes: &[Shape], first: u32, blocks: &mut Vec<Block>, recs: &mut [Rec]) {
+        for (c, chunk) in shapes.chunks(4).enumerate() {
+            let mut b = Block::EMPTY;
+            let at = (blocks.len() * 4) as u32;
+            for (lane, s) in chunk.iter().enumerate() {
+                let prim = first + (c * 4 + lane) as u32;
+                b.prim[lane] = prim;
+                let rec = &mut recs[prim as usize];
+                rec.at = at + lane as u32;
+                match s {
+                    Shape::Triangle(t) => {
+                        for (k, p) in t.p.iter().enumerate() {
+                            for axis in 0..3 {
+                                b.v[3 * k + axis][lane] = p[axis];
+                            }
+                        }
+                        rec.normals = t.normals;
+                        rec.material = t.material;
+                    }
+                    Shape::Sphere { center, radius, material } => {
+                        for axis in 0..3 {
+                            b.v[axis][lane] = center[axis];
+                        }
+                        b.v[3][lane] = *radius;
+                        rec.at |= SPHERE;
+                        rec.material = *material;
+                    }
+                }
+            }
+            blocks.push(b);
+        }
+    }
+
+    /// The primitive in `lane`, as a shape.
+    pub fn shape(&self, lane: usize, rec: &Rec) -> Shape {
+        let v = |i: usize| self.v[i][lane];
+        if rec.at & SPHERE != 0 {
+            Shape::Sphere {
+                center: Vec3::new(v(0), v(1), v(2)),
+                radius: v(3),
+                material: rec.material,
+            }
+        } else {
+            Shape::Triangle(Triangle {
+                p: [0, 3, 6].map(|k| Vec3::new(v(k), v(k + 1), v(k + 2))),
+                normals: rec.normals,
+                material: rec.material,
+            })
+        }
+    }
+
+    /// The watertight test on all four triangles: the lanes hit within
+    /// `(t_min, t_max)` as a bit mask, and per lane `t` and the edge
+    /// functions (u, v, w) whose sum is the determinant.
+    #[inline(always)]
+    pub fn triangles(&self, r: &Pre4, t_min: f32, t_max: f32) -> (u32, Vec4, [Vec4; 3]) {
+        let [kx, ky, kz] = r.k;
+        let v = &self.v;
+        let rel = |k: usize| (v[k + kx] - r.o[0], v[k + ky] - r.o[1], v[k + kz] - r.o[2]);
+        let (a, b, c) = (rel(0), rel(3), rel(6));
+        let (ax, ay) = (a.0 - r.s[0] * a.2, a.1 - r.s[1] * a.2);
+        let (bx, by) = (b.0 - r.s[0] * b.2, b.1 - r.s[1] * b.2);
+        let (cx, cy) = (c.0 - r.s[0] * c.2, c.1 - r.s[1] * c.2);
+        let mut u = cx * by - cy * bx;
+        let mut vv = ax * cy - ay * cx;
+        let mut w = bx * ay - by * ax;
+        let zero = u.cmpeq(Vec4::ZERO) | vv.cmpeq(Vec4::ZERO) | w.cmpeq(Vec4::ZERO);
+        if zero.any() {
+            // On an edge in single precision: decide it in double precision,
+            // lane by lane, as the scalar test does.
+            let d = |x1: Vec4, y1: Vec4, x2: Vec4, y2: Vec4, l: usize| {
+                (x1[l] as f64 * y2[l] as f64 - y1[l] as f64 * x2[l] as f64) as f32
+            };
+            for l in (0..4).filter(|&l| zero.bitmask() & (1 << l) != 0) {
+                u[l] = d(cx, cy, bx, by, l);
+                vv[l] = d(ax, ay, cx, cy, l);
+                w[l] = d(bx, by, ax, ay, l);
+            }
+        }
+        let zero = Vec4::ZERO;
+        let neg = u.cmplt(zero) | vv.cmplt(zero) | w.cmplt(zero);
+        let pos = u.cmpgt(zero) | vv.cmpgt(zero) | w.cmpgt(zero);
+        let det = u + vv + w;
+        let (az, bz, cz) = (r.s[2] * a.2, r.s[2] * b.2, r.s[2] * c.2);
+        let t = (u * az + vv * bz + w * cz) / det;
+        let ok = !(neg & pos)
+            & det.cmpne(zero)
+            & t.cmpgt(Vec4::splat(t_min))
+            & t.cmplt(Vec4::splat(t_max));
+        (ok.bitmask(), t, [u, vv, w])
+    }
+
+    /// The nearest hit on the sphere in `lane` within `(t_min, t_max)`.
+    #[inline]
+    pub fn sphere(&self, lane: usize, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let v = |i: usize| self.v[i][lane];
+        intersect_sphere(ray, Vec3::new(v(0), v(1), v(2)), v(3), t_min, t_max)
+    }
+
+    /// The lanes that hold a primitive.
+    #[inline(always)]
+    pub fn lanes(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..4).filter(|&l| self.prim[l] != NONE)
+    }
+}
+
+/// Per-ray constants of the four-wide triangle test: the watertight
+/// test's axis permutation and shear, and the permuted origin, splatted.
+pub(super) struct Pre4 {
+    k: [usize; 3],
+    o: [Vec4; 3],
+    s: [Vec4; 3],
+}
+
+impl Pre4 {
+    pub fn new(ray: &Ray, pre: &RayPre) -> Pre4 {
+        let [kx, ky, kz] = pre.k;
+        Pre4 {
+            k: pre.k,
+            o: [kx, ky, kz].map(|k| Vec4::splat(ray.origin[k])),
+            s: [pre.s.x, pre.s.y, pre.s.z].map(Vec4::splat),
+        }
+    }
+}
