@@ -168,7 +168,12 @@ impl Bvh {
                 BuildPrim { bounds: b, centroid: b.centroid(), index: i as u32 }
             })
             .collect();
-        let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, 0, 1).0 };
+        let both = prims
+            .par_chunks(4096)
+            .map(bounds_of)
+            .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(b.0), a.1.union(b.1)));
+        let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, both, 0, 1) };
+
         let mut ordered: Vec<Shape> = prims.par_iter().map(|p| shape(p.index as usize)).collect();
         drop(prims);
         let mut w = Widen {
@@ -493,19 +498,63 @@ fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Aabb) -> Node {
 /// Subtrees larger than this are built on two threads at once.
 const PARALLEL_BUILD: usize = 8 * 1024;
 
+/// A set of primitives' bounds and the bounds of their centroids.
+type Bounds2 = (Aabb, Aabb);
+
 enum Split {
     Leaf,
-    /// Partitioned: the left child holds `prims[..mid]`.
-    Inner(usize),
+    /// Partitioned: the left child holds `prims[..mid]`; the children's
+    /// bounds when the binning already knows them.
+    Inner(usize, Option<[Bounds2; 2]>),
+}
+
+/// Primitives counted into `BINS` buckets along one axis.
+#[derive(Clone, Copy)]
+struct Bins {
+    counts: [usize; BINS],
+    boxes: [Aabb; BINS],
+    centroids: [Aabb; BINS],
+}
+
+impl Bins {
+    const EMPTY: Bins =
+        Bins { counts: [0; BINS], boxes: [Aabb::EMPTY; BINS], centroids: [Aabb::EMPTY; BINS] };
+
+    fn add(mut self, prims: &[BuildPrim], bin_of: impl Fn(Vec3) -> usize) -> Bins {
+        for p in prims {
+            let b = bin_of(p.centroid);
+            self.counts[b] += 1;
+            self.boxes[b] = self.boxes[b].union(p.bounds);
+            self.centroids[b] = self.centroids[b].grow(p.centroid);
+        }
+        self
+    }
+
+    fn merge(mut self, o: Bins) -> Bins {
+        for b in 0..BINS {
+            self.counts[b] += o.counts[b];
+            self.boxes[b] = self.boxes[b].union(o.boxes[b]);
+            self.centroids[b] = self.centroids[b].union(o.centroids[b]);
+        }
+        self
+    }
+
+    /// The bounds of the primitives in `range` of the buckets.
+    fn bounds(&self, range: std::ops::Range<usize>) -> Bounds2 {
+        range.fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), i| {
+            (b.union(self.boxes[i]), c.union(self.centroids[i]))
+        })
+    }
 }
 
 /// Decides how to split `prims` (reordering them) with the surface area
-/// heuristic over `BINS` buckets along the widest centroid axis.
-fn split(prims: &mut [BuildPrim], (bounds, cbounds): (Aabb, Aabb), level: usize) -> Split {
+/// heuristic over `BINS` buckets along the widest centroid axis; large
+/// sets are binned on all threads.
+fn split(prims: &mut [BuildPrim], (bounds, cbounds): Bounds2, level: usize) -> Split {
     // Past 60 levels (only adversarial inputs get there) halve the list:
     // leaves never exceed MAX_LEAF and the depth stays under 60 + 32.
     let halve =
-        || if prims.len() <= MAX_LEAF { Split::Leaf } else { Split::Inner(prims.len() / 2) };
+        || if prims.len() <= MAX_LEAF { Split::Leaf } else { Split::Inner(prims.len() / 2, None) };
     if prims.len() <= 2 {
         return Split::Leaf;
     }
@@ -528,27 +577,28 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): (Aabb, Aabb), level: usize)
     }
     let scale = BINS as f32 / span;
     let bin_of = |c: Vec3| (((c[axis] - lo) * scale) as usize).min(BINS - 1);
-    let mut counts = [0usize; BINS];
-    let mut boxes = [Aabb::EMPTY; BINS];
-    for p in prims.iter() {
-        let b = bin_of(p.centroid);
-        counts[b] += 1;
-        boxes[b] = boxes[b].union(p.bounds);
-    }
+    let bins = if prims.len() >= PARALLEL_BUILD {
+        prims
+            .par_chunks(PARALLEL_BUILD / 2)
+            .map(|c| Bins::EMPTY.add(c, bin_of))
+            .reduce(|| Bins::EMPTY, Bins::merge)
+    } else {
+        Bins::EMPTY.add(prims, bin_of)
+    };
     let mut right_area = [0.0f32; BINS];
     let mut right_count = [0usize; BINS];
     let (mut acc, mut n) = (Aabb::EMPTY, 0);
     for i in (1..BINS).rev() {
-        acc = acc.union(boxes[i]);
-        n += counts[i];
+        acc = acc.union(bins.boxes[i]);
+        n += bins.counts[i];
         right_area[i] = acc.surface_area();
         right_count[i] = n;
     }
     let (mut acc, mut n) = (Aabb::EMPTY, 0);
     let mut best = (f32::INFINITY, 0);
     for i in 0..BINS - 1 {
-        acc = acc.union(boxes[i]);
-        n += counts[i];
+        acc = acc.union(bins.boxes[i]);
+        n += bins.counts[i];
         if n == 0 || right_count[i + 1] == 0 {
             continue;
         }
@@ -573,7 +623,10 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): (Aabb, Aabb), level: usize)
             i += 1;
         }
     }
-    Split::Inner(if i == 0 || i == prims.len() { prims.len() / 2 } else { i })
+    if i == 0 || i == prims.len() {
+        return Split::Inner(prims.len() / 2, None);
+    }
+    Split::Inner(i, Some([bins.bounds(0..best.1 + 1), bins.bounds(best.1 + 1..BINS)]))
 }
 
 /// What testing `n` primitives costs: leaves test them four at a time.
@@ -582,10 +635,19 @@ fn blocks_of(n: usize) -> f32 {
 }
 
 /// The bounds of the primitives and of their centroids, in one pass.
-fn bounds_of(prims: &[BuildPrim]) -> (Aabb, Aabb) {
+fn bounds_of(prims: &[BuildPrim]) -> Bounds2 {
     prims
         .iter()
         .fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(p.bounds), c.grow(p.centroid)))
+}
+
+/// The children's bounds: from the binning, or counted afresh.
+fn child_bounds(
+    known: Option<[Bounds2; 2]>,
+    left: &[BuildPrim],
+    right: &[BuildPrim],
+) -> [Bounds2; 2] {
+    known.unwrap_or_else(|| [bounds_of(left), bounds_of(right)])
 }
 
 fn inner(bounds: Aabb) -> Node {
@@ -593,25 +655,25 @@ fn inner(bounds: Aabb) -> Node {
 }
 
 /// Builds the subtree over `prims` (which start at `first` in the final
-/// order) and appends its nodes depth-first; returns the node index.
+/// order, and have the bounds `both`) and appends its nodes depth-first;
+/// returns the node index.
 fn build_rec(
     prims: &mut [BuildPrim],
+    both: Bounds2,
     first: usize,
     nodes: &mut Vec<Node>,
     level: usize,
-    depth: &mut usize,
 ) -> usize {
-    *depth = (*depth).max(level);
-    let both = bounds_of(prims);
     let bounds = both.0;
     let me = nodes.len();
     match split(prims, both, level) {
         Split::Leaf => nodes.push(make_leaf(prims, first, bounds)),
-        Split::Inner(mid) => {
+        Split::Inner(mid, known) => {
             nodes.push(inner(bounds));
             let (left, right) = prims.split_at_mut(mid);
-            build_rec(left, first, nodes, level + 1, depth);
-            let second = build_rec(right, first + mid, nodes, level + 1, depth);
+            let [lb, rb] = child_bounds(known, left, right);
+            build_rec(left, lb, first, nodes, level + 1);
+            let second = build_rec(right, rb, first + mid, nodes, level + 1);
             nodes[me].offset = second as u32;
         }
     }
@@ -620,24 +682,21 @@ fn build_rec(
 
 /// The same tree as `build_rec`, building large subtrees on two threads;
 /// returns the subtree's nodes (interior offsets relative to its root).
-fn build_par(prims: &mut [BuildPrim], first: usize, level: usize) -> (Vec<Node>, usize) {
+fn build_par(prims: &mut [BuildPrim], both: Bounds2, first: usize, level: usize) -> Vec<Node> {
     if prims.len() < PARALLEL_BUILD {
-        let (mut nodes, mut depth) = (Vec::with_capacity(prims.len()), 0);
-        build_rec(prims, first, &mut nodes, level, &mut depth);
-        return (nodes, depth);
+        let mut nodes = Vec::with_capacity(prims.len() / 2);
+        build_rec(prims, both, first, &mut nodes, level);
+        return nodes;
     }
-    let both = prims
-        .par_chunks(4096)
-        .map(bounds_of)
-        .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(b.0), a.1.union(b.1)));
     let bounds = both.0;
     match split(prims, both, level) {
-        Split::Leaf => (vec![make_leaf(prims, first, bounds)], level),
-        Split::Inner(mid) => {
+        Split::Leaf => vec![make_leaf(prims, first, bounds)],
+        Split::Inner(mid, known) => {
             let (left, right) = prims.split_at_mut(mid);
-            let ((ln, ld), (rn, rd)) = rayon::join(
-                || build_par(left, first, level + 1),
-                || build_par(right, first + mid, level + 1),
+            let [lb, rb] = child_bounds(known, left, right);
+            let (ln, rn) = rayon::join(
+                || build_par(left, lb, first, level + 1),
+                || build_par(right, rb, first + mid, level + 1),
             );
             let mut nodes = Vec::with_capacity(1 + ln.len() + rn.len());
             let mut root = inner(bounds);
@@ -652,7 +711,7 @@ fn build_par(prims: &mut [BuildPrim], first: usize, level: usize) -> (Vec<Node>,
             };
             nodes.extend(ln.iter().map(|n| shift(n, 1)));
             nodes.extend(rn.iter().map(|n| shift(n, 1 + ln.len())));
-            (nodes, ld.max(rd))
+            nodes
         }
     }
 }
