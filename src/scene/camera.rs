@@ -14,6 +14,11 @@ pub struct Camera {
     pub tan_half: (f32, f32),
     pub width: u32,
     pub height: u32,
+    /// The direction to the top-left image corner and the steps from one
+    /// pixel to the next, so a ray costs no division but its normalizing.
+    corner: Vec3,
+    dx: Vec3,
+    dy: Vec3,
 }
 
 impl Camera {
@@ -35,14 +40,16 @@ impl Camera {
         let up = right.cross(forward);
         let th = (angle_deg.to_radians() * 0.5).tan();
         let tv = th * height as f32 / width as f32;
-        Some(Camera { from, forward, right, up, tan_half: (th, tv), width, height })
+        let corner = forward - right * th + up * tv;
+        let dx = right * (2.0 * th / width as f32);
+        let dy = up * (-2.0 * tv / height as f32);
+        Some(Camera { from, forward, right, up, tan_half: (th, tv), width, height, corner, dx, dy })
     }
 
     /// The primary ray through the centre of pixel (x, y).
     pub fn ray(&self, x: u32, y: u32) -> Ray {
-        let sx = (2.0 * (x as f32 + 0.5) / self.width as f32 - 1.0) * self.tan_half.0;
-        let sy = (1.0 - 2.0 * (y as f32 + 0.5) / self.height as f32) * self.tan_half.1;
-        Ray::new(self.from, (self.forward + self.right * sx + self.up * sy).normalize())
+        let dir = self.corner + self.dx * (x as f32 + 0.5) + self.dy * (y as f32 + 0.5);
+        Ray::new(self.from, dir.normalize())
     }
 }
 
