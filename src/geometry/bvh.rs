@@ -42,11 +42,12 @@ impl Node {
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 struct Wide {
-    /// The children's bounds by axis: lo x, hi x, lo y, hi y, lo z, hi z.
-    b: [Vec4; 6],
-    /// Child i: an interior node's index, or a leaf's first primitive.
+    /// The children's bounds by axis: [lo, hi] for x, y and z.
+    b: [[Vec4; 2]; 3],
+    /// Child i: an interior node's index, or a leaf's first block.
     child: [u32; 4],
-    /// The number of primitives in leaf child i; 0 for an interior node.
+    /// Leaf child i's triangle blocks, plus its sphere blocks shifted by
+    /// `SPHERE_SHIFT`; 0 for an interior node.
     count: [u32; 4],
 }
 
@@ -54,22 +55,15 @@ impl Wide {
     /// Empty slots hold an inverted box (lo +inf, hi -inf): entered at
     /// +inf and left at -inf on every axis, whatever the ray's direction.
     const EMPTY: Wide = Wide {
-        b: [
-            Vec4::INFINITY,
-            Vec4::NEG_INFINITY,
-            Vec4::INFINITY,
-            Vec4::NEG_INFINITY,
-            Vec4::INFINITY,
-            Vec4::NEG_INFINITY,
-        ],
+        b: [[Vec4::INFINITY, Vec4::NEG_INFINITY]; 3],
         child: [0; 4],
         count: [0; 4],
     };
 
     fn set(&mut self, i: usize, bounds: Aabb, child: u32, count: u32) {
         for axis in 0..3 {
-            self.b[2 * axis][i] = bounds.min[axis];
-            self.b[2 * axis + 1][i] = bounds.max[axis];
+            self.b[axis][0][i] = bounds.min[axis];
+            self.b[axis][1][i] = bounds.max[axis];
         }
         self.child[i] = child;
         self.count[i] = count;
@@ -80,12 +74,13 @@ impl Wide {
     #[inline(always)]
     fn hit(&self, r: &Slabs, t_min: f32, t_max: f32) -> (u32, Vec4) {
         let [nx, ny, nz] = r.near;
-        let tnx = (self.b[nx] - r.org[0]) * r.inv[0];
-        let tfx = (self.b[nx ^ 1] - r.org[0]) * r.inv[0];
-        let tny = (self.b[ny] - r.org[1]) * r.inv[1];
-        let tfy = (self.b[ny ^ 1] - r.org[1]) * r.inv[1];
-        let tnz = (self.b[nz] - r.org[2]) * r.inv[2];
-        let tfz = (self.b[nz ^ 1] - r.org[2]) * r.inv[2];
+        // `& 1`: provably in bounds, so no checks.
+        let tnx = (self.b[0][nx & 1] - r.org[0]) * r.inv[0];
+        let tfx = (self.b[0][(nx ^ 1) & 1] - r.org[0]) * r.inv[0];
+        let tny = (self.b[1][ny & 1] - r.org[1]) * r.inv[1];
+        let tfy = (self.b[1][(ny ^ 1) & 1] - r.org[1]) * r.inv[1];
+        let tnz = (self.b[2][nz & 1] - r.org[2]) * r.inv[2];
+        let tfz = (self.b[2][(nz ^ 1) & 1] - r.org[2]) * r.inv[2];
         let near = tnx.max(tny).max(tnz.max(Vec4::splat(t_min)));
         // Robust traversal (Ize 2013): the exit widened by 2 ulps of error.
         let far = tfx.min(tfy).min(tfz.min(Vec4::splat(t_max))) * ROBUST;
@@ -95,7 +90,7 @@ impl Wide {
 
 /// Per-ray constants of the 4-wide slab test: the origin and inverse
 /// direction splatted across lanes, and for each axis which of the two
-/// planes the ray meets first (so no per-lane min/max is needed).
+/// planes (0: lo, 1: hi) the ray meets first (so no per-lane min/max).
 struct Slabs {
     org: [Vec4; 3],
     inv: [Vec4; 3],
@@ -111,7 +106,7 @@ impl Slabs {
         Slabs {
             org: [Vec4::splat(ray.origin.x), Vec4::splat(ray.origin.y), Vec4::splat(ray.origin.z)],
             inv: [Vec4::splat(i[0]), Vec4::splat(i[1]), Vec4::splat(i[2])],
-            near: [0, 2, 4].map(|a| a + (i[a / 2] < 0.0) as usize),
+            near: i.map(|i| (i < 0.0) as usize),
         }
     }
 }
@@ -234,10 +229,10 @@ impl Bvh {
     pub fn bounds(&self) -> Aabb {
         let Some(root) = self.nodes.first() else { return Aabb::EMPTY };
         (0..4)
-            .filter(|&i| root.b[0][i] <= root.b[1][i])
+            .filter(|&i| root.b[0][0][i] <= root.b[0][1][i])
             .map(|i| Aabb {
-                min: Vec3::new(root.b[0][i], root.b[2][i], root.b[4][i]),
-                max: Vec3::new(root.b[1][i], root.b[3][i], root.b[5][i]),
+                min: Vec3::new(root.b[0][0][i], root.b[1][0][i], root.b[2][0][i]),
+                max: Vec3::new(root.b[0][1][i], root.b[1][1][i], root.b[2][1][i]),
             })
             .fold(Aabb::EMPTY, Aabb::union)
     }
