@@ -54,11 +54,8 @@ struct Wide {
 impl Wide {
     /// Empty slots hold an inverted box (lo +inf, hi -inf): entered at
     /// +inf and left at -inf on every axis, whatever the ray's direction.
-    const EMPTY: Wide = Wide {
-        b: [[Vec4::INFINITY, Vec4::NEG_INFINITY]; 3],
-        child: [0; 4],
-        count: [0; 4],
-    };
+    const EMPTY: Wide =
+        Wide { b: [[Vec4::INFINITY, Vec4::NEG_INFINITY]; 3], child: [0; 4], count: [0; 4] };
 
     fn set(&mut self, i: usize, bounds: Aabb, child: u32, count: u32) {
         for axis in 0..3 {
@@ -364,27 +361,35 @@ impl Bvh {
                 let n = &self.nodes[current.child as usize];
                 let (mut mask, near) = n.hit(&slabs, t_min, *t_max);
                 if mask != 0 {
-                    let entry =
-                        |i: usize| Entry { child: n.child[i], count: n.count[i], t: near[i] };
-                    let i = mask.trailing_zeros() as usize;
+                    let near = near.to_array();
+                    // `& 3`: lanes are 0..4, provably, so no bounds checks.
+                    let entry = |i: u32| {
+                        let i = (i & 3) as usize;
+                        Entry { child: n.child[i], count: n.count[i], t: near[i] }
+                    };
+                    let a = entry(mask.trailing_zeros());
                     mask &= mask - 1;
                     if mask == 0 {
-                        current = entry(i);
+                        current = a;
                         continue;
                     }
-                    // Two or more: push them all, keeping that part of the
-                    // stack sorted farthest first, and take the nearest.
+                    let b = entry(mask.trailing_zeros());
+                    mask &= mask - 1;
+                    if mask == 0 {
+                        // Two: go to the nearer, keep the farther.
+                        let (near, far) = if b.t < a.t { (b, a) } else { (a, b) };
+                        stack.push(far);
+                        current = near;
+                        continue;
+                    }
+                    // More: push them all, keeping that part of the stack
+                    // sorted farthest first, and take the nearest.
                     let base = stack.len();
-                    stack.push(entry(i));
+                    push_sorted(stack, base, a);
+                    push_sorted(stack, base, b);
                     while mask != 0 {
-                        let i = mask.trailing_zeros() as usize;
+                        push_sorted(stack, base, entry(mask.trailing_zeros()));
                         mask &= mask - 1;
-                        stack.push(entry(i));
-                        let mut j = stack.len() - 1;
-                        while j > base && stack[j - 1].t < stack[j].t {
-                            stack.swap(j - 1, j);
-                            j -= 1;
-                        }
                     }
                     if let Some(e) = stack.pop() {
                         current = e;
@@ -404,6 +409,18 @@ impl Bvh {
                 }
             }
         }
+    }
+}
+
+/// Pushes `e` onto the stack, keeping the entries from `base` on sorted
+/// farthest first.
+#[inline(always)]
+fn push_sorted(stack: &mut Vec<Entry>, base: usize, e: Entry) {
+    stack.push(e);
+    let mut j = stack.len() - 1;
+    while j > base && stack[j - 1].t < stack[j].t {
+        stack.swap(j - 1, j);
+        j -= 1;
     }
 }
 
