@@ -15,3 +15,33 @@ proc frame_scene {{width 1024} {height 1024}} {
     # A light above and in front, for the shadow rays.
     point_light 1 1 1 [expr {$cx + $d}] [expr {$cy + 2 * $d}] [expr {$cz + $d}]
 }
+
+# Runs `raybench -shadow` three times and prints the best of each figure
+# (the fastest rays, the quickest build), the way scripts/embree_bench.c
+# keeps its best pass: the machines are shared and noisy. With -brute, adds
+# the brute-force baseline (one run: it is slow and steady).
+proc bench {args} {
+    array set best {}
+    set keys {}
+    for {set i 0} {$i < 3} {incr i} {
+        foreach {key value} [raybench -shadow] {
+            if {![info exists best($key)]} {
+                lappend keys $key
+                set best($key) $value
+            } elseif {$key eq "build_ms"} {
+                set best($key) [expr {min($best($key), $value)}]
+            } elseif {[string match *mrays_per_s $key]} {
+                set best($key) [expr {max($best($key), $value)}]
+            }
+        }
+    }
+    set out {}
+    foreach key $keys {
+        lappend out $key $best($key)
+    }
+    if {"-brute" in $args} {
+        array set b [raybench -brute]
+        lappend out brute_mrays_per_s $b(brute_mrays_per_s)
+    }
+    puts $out
+}
