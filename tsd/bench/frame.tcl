@@ -16,14 +16,14 @@ proc frame_scene {{width 1024} {height 1024}} {
     point_light 1 1 1 [expr {$cx + $d}] [expr {$cy + 2 * $d}] [expr {$cz + $d}]
 }
 
-# Runs `raybench -shadow` three times and prints the best of each figure
+# Runs `raybench -shadow` five times and prints the best of each figure
 # (the fastest rays, the quickest build), the way scripts/embree_bench.c
 # keeps its best pass: the machines are shared and noisy. With -brute, adds
 # the brute-force baseline (one run: it is slow and steady).
 proc bench {args} {
     array set best {}
     set keys {}
-    for {set i 0} {$i < 3} {incr i} {
+    for {set i 0} {$i < 5} {incr i} {
         foreach {key value} [raybench -shadow] {
             if {![info exists best($key)]} {
                 lappend keys $key
