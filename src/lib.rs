@@ -10,7 +10,8 @@
 //! - `interp`: a Tcl 8.6-compatible interpreter: `parser` (Script, Command,
 //!   Word), `value` (Value), `eval` (Interp), `stream` (whole files, the
 //!   scanner thread), `expr`, `builtins`. It knows nothing about graphics.
-//! - `geometry`: rays, boxes, spheres, watertight triangles, the BVH.
+//! - `geometry`: rays, boxes, spheres, watertight triangles, the 4-wide BVH
+//!   whose leaves hold blocks of four primitives tested in SIMD lanes.
 //! - `scene`: `Builder` (mutable, checked), `Scene` (frozen), camera, lights,
 //!   materials.
 //! - `render`: the Whitted tracer (`tracer`), parallel over tiles; `job`
@@ -33,6 +34,8 @@
 //! - Rendering reads a frozen `Scene` and uses no randomness; each pixel
 //!   depends on its own ray only: the picture is the same for any thread
 //!   count, tile order, pass order, crop or shard.
+//! - The BVH's four-lane triangle test does the scalar watertight test's
+//!   arithmetic lane for lane: the same hits, to the bit.
 //! - An image reaches its final name only whole (`shell::AtomicFile`).
 //! - No input makes the program panic: bad scripts are `Exception`s with a
 //!   file and line; a panic that slips through still exits 70, never 101.

@@ -1,8 +1,10 @@
 //! The bounding volume hierarchy: a binned-SAH build over every primitive
-//! (triangles and spheres alike), flattened into 32-byte nodes in
-//! depth-first order, traversed with an explicit stack, near child first.
-//! `intersect` finds the closest hit; `transmittance` is the any-hit query
-//! for shadow rays, which multiplies in what each surface lets through.
+//! (triangles and spheres alike) into a binary tree, collapsed into a
+//! 4-wide tree of 128-byte nodes in depth-first order whose leaves are
+//! blocks of four primitives (`blocks`); traversed with an explicit stack,
+//! nearest child first. `intersect` finds the closest hit; `transmittance`
+//! is the any-hit query for shadow rays, which multiplies in what each
+//! surface lets through.
 
 use std::cell::Cell;
 
