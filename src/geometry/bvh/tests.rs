@@ -112,3 +112,51 @@ fn parallel_build_finds_the_same_hits() {
         assert_eq!(bvh.intersect(&ray, 0.0, f32::INFINITY).0.map(|h| h.t), brute(&shapes, &ray));
     }
 }
+
+#[test]
+fn blocks_are_watertight_and_match_the_scalar_test() {
+    // A 6x6 grid of quads in the plane z = 0, two triangles each, with
+    // vertices on integers: rays aimed at its vertices and edge midpoints
+    // make the edge functions exactly zero, the blocks' double-precision
+    // path. Every ray must hit, and with the scalar test's t and barycentrics.
+    let v = |x: i32, y: i32| Vec3::new(x as f32, y as f32, 0.0);
+    let tri = |a, b, c| {
+        Shape::Triangle(Triangle { p: [a, b, c], normals: [Triangle::FLAT; 3], material: 0 })
+    };
+    let mut shapes = Vec::new();
+    for y in 0..6 {
+        for x in 0..6 {
+            shapes.push(tri(v(x, y), v(x + 1, y), v(x + 1, y + 1)));
+            shapes.push(tri(v(x, y), v(x + 1, y + 1), v(x, y + 1)));
+        }
+    }
+    let bvh = Bvh::build(&shapes);
+    let mut seed = 11;
+    let mut origins = vec![Vec3::new(3.0, 3.0, 5.0), Vec3::new(-1.5, 2.0, 4.0)];
+    origins.extend((0..30).map(|_| {
+        Vec3::new(
+            lcg(&mut seed) * 8.0 - 1.0,
+            lcg(&mut seed) * 8.0 - 1.0,
+            lcg(&mut seed) * 6.0 + 0.5,
+        )
+    }));
+    let mut checked = 0;
+    for &o in &origins {
+        for y2 in 1..12 {
+            for x2 in 1..12 {
+                let target = Vec3::new(x2 as f32 / 2.0, y2 as f32 / 2.0, 0.0);
+                let ray = Ray::new(o, target - o);
+                let (hit, _) = bvh.intersect(&ray, 0.0, f32::INFINITY);
+                let hit = hit.unwrap_or_else(|| panic!("slipped through at {target} from {o}"));
+                let scalar =
+                    bvh.shape(hit.prim).intersect(&ray, &RayPre::new(ray.dir), 0.0, f32::INFINITY);
+                assert_eq!(scalar, Some((hit.t, hit.uv)));
+                assert_eq!(hit.t, brute(&shapes, &ray).unwrap());
+                // A shadow ray there is blocked too.
+                assert_eq!(bvh.transmittance(&ray, 0.0, f32::INFINITY, |_| Vec3::ZERO), Vec3::ZERO);
+                checked += 1;
+            }
+        }
+    }
+    assert_eq!(checked, origins.len() * 121);
+}
