@@ -16,7 +16,9 @@ use super::blocks::{self, Block, Pre4, Rec};
 use super::shapes::RayPre;
 use super::{Aabb, Hit, Ray, Shape};
 
+/// SAH buckets along the split axis.
 const BINS: usize = 16;
+/// The most primitives in a leaf: two blocks.
 const MAX_LEAF: usize = 8;
 /// Cost of a traversal step relative to testing one block of four
 /// primitives (measured best between 1 and 3 on the shared models).
@@ -167,14 +169,13 @@ impl Bvh {
             .map(bounds_of)
             .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(b.0), a.1.union(b.1)));
         let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, both, 0, 1) };
-
         let mut ordered: Vec<Shape> = prims.par_iter().map(|p| shape(p.index as usize)).collect();
         drop(prims);
         let mut w = Widen {
             bin: &binary,
             shapes: &mut ordered,
             nodes: Vec::with_capacity(binary.len() / 3 + 1),
-            blocks: Vec::with_capacity(n / 3 + 1),
+            blocks: Vec::with_capacity(n / 4 + 1),
             recs: vec![Rec { at: 0, normals: [0; 3], material: 0 }; n],
             depth: 0,
         };
@@ -242,7 +243,7 @@ impl Bvh {
         let mut best: Option<Hit> = None;
         let mut t_max = t_max;
         let pre = Pre4::new(ray, &RayPre::new(ray.dir));
-        let visited = self.traverse(ray, t_min, &mut t_max, |tris, spheres, t_max| {
+        let steps = self.traverse(ray, t_min, &mut t_max, |tris, spheres, t_max| {
             for b in tris {
                 let (mut mask, t, [u, v, w]) = b.triangles(&pre, t_min, *t_max);
                 while mask != 0 {
@@ -265,7 +266,7 @@ impl Bvh {
             }
             false
         });
-        (best, visited)
+        (best, steps)
     }
 
     /// What reaches the end of a shadow segment: the product of `pass(prim)`
@@ -330,9 +331,9 @@ impl Bvh {
         // use, so a walk inside a walk would simply start a new one).
         let mut stack = STACK.take();
         stack.clear();
-        let visited = self.walk(&mut stack, ray, t_min, t_max, leaf);
+        let steps = self.walk(&mut stack, ray, t_min, t_max, leaf);
         STACK.set(stack);
-        visited
+        steps
     }
 
     #[inline(always)]
@@ -345,19 +346,19 @@ impl Bvh {
         mut leaf: impl FnMut(&[Block], &[Block], &mut f32) -> bool,
     ) -> u32 {
         let slabs = Slabs::new(ray);
-        let mut visited = 0;
+        let mut steps = 0;
         let mut current = Entry { child: 0, count: 0, t: t_min };
         loop {
-            visited += 1;
+            steps += 1;
             if current.count > 0 {
                 let first = current.child as usize;
                 let tris = (current.count & ((1 << SPHERE_SHIFT) - 1)) as usize;
                 let spheres = (current.count >> SPHERE_SHIFT) as usize;
-                visited += (tris + spheres) as u32;
+                steps += (tris + spheres) as u32;
                 let blocks = &self.blocks[first..first + tris + spheres];
                 let (tris, spheres) = blocks.split_at(tris);
                 if leaf(tris, spheres, t_max) {
-                    return visited;
+                    return steps;
                 }
             } else {
                 let n = &self.nodes[current.child as usize];
@@ -402,7 +403,7 @@ impl Bvh {
             // Pop the next node, skipping those beyond the closest hit.
             loop {
                 match stack.pop() {
-                    None => return visited,
+                    None => return steps,
                     Some(e) if e.t <= *t_max => {
                         current = e;
                         break;

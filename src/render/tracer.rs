@@ -88,17 +88,18 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     Some((Image { width: r.width(), height: r.height(), pixels }, stats))
 }
 
-/// The cost picture: each pixel coloured by the BVH nodes its primary ray
-/// visited, from black through blue, red and yellow to white at the most.
+/// The cost picture: each pixel coloured by the BVH traversal steps of its
+/// primary ray (nodes entered and leaf blocks tested), from black through
+/// blue, red and yellow to white at the most.
 pub fn render_heatmap(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let cam = &scene.camera;
     let r = job.rect(cam.width, cam.height);
     let out = Mutex::new(vec![0u32; r.pixels() as usize]);
     let stats = per_pixel(cam.width, cam.height, job, &out, |x, y, st| {
         st.primary += 1;
-        let (_, visited) = scene.bvh.intersect(&cam.ray(x, y), 0.0, f32::INFINITY);
-        st.bvh_steps += visited as u64;
-        visited
+        let (_, steps) = scene.bvh.intersect(&cam.ray(x, y), 0.0, f32::INFINITY);
+        st.bvh_steps += steps as u64;
+        steps
     })?;
     let counts = out.into_inner().unwrap_or_else(|e| e.into_inner());
     let max = counts.iter().copied().max().unwrap_or(1).max(1) as f32;
@@ -131,8 +132,8 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
     let mut stats = per_pixel(cam.width, cam.height, &job, &hits, |x, y, st| {
         st.primary += 1;
         let ray = cam.ray(x, y);
-        let (hit, visited) = scene.bvh.intersect(&ray, 0.0, f32::INFINITY);
-        st.bvh_steps += visited as u64;
+        let (hit, steps) = scene.bvh.intersect(&ray, 0.0, f32::INFINITY);
+        st.bvh_steps += steps as u64;
         hit.map(|h| ray.at(h.t)).unwrap_or(Vec3::NAN)
     })
     .unwrap_or_default();
@@ -189,8 +190,8 @@ pub fn raybench_brute(scene: &Scene, budget: u64) -> (u64, f64) {
 
 /// The colour seen along `ray`, `depth` bounces deep.
 pub fn trace(scene: &Scene, ray: &Ray, depth: u32, weight: f32, st: &mut RayStats) -> Vec3 {
-    let (hit, visited) = scene.bvh.intersect(ray, 0.0, f32::INFINITY);
-    st.bvh_steps += visited as u64;
+    let (hit, steps) = scene.bvh.intersect(ray, 0.0, f32::INFINITY);
+    st.bvh_steps += steps as u64;
     match hit {
         Some(h) => shade(scene, ray, &h, depth, weight, st),
         None => scene.background,
