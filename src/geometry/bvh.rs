@@ -128,6 +128,8 @@ pub struct Bvh {
     /// One record per primitive, in leaf order (the order of `Hit::prim`).
     recs: Vec<Rec>,
     depth: usize,
+    /// Triangles without area, left out.
+    pub degenerate: usize,
 }
 
 struct BuildPrim {
@@ -156,14 +158,22 @@ impl Bvh {
 
     /// Builds over the `n` shapes that `shape(i)` makes (called from many
     /// threads, twice per shape), so no unordered copy of them is kept.
+    /// Triangles without area are left out (and counted in `degenerate`).
     pub fn build_from(n: usize, shape: impl Fn(usize) -> Shape + Sync) -> Bvh {
         let mut prims: Vec<BuildPrim> = (0..n)
             .into_par_iter()
-            .map(|i| {
-                let b = shape(i).bounds();
-                BuildPrim { bounds: b, centroid: b.centroid(), index: i as u32 }
+            .filter_map(|i| {
+                let s = shape(i);
+                if let Shape::Triangle(t) = s
+                    && !t.has_area()
+                {
+                    return None;
+                }
+                let b = s.bounds();
+                Some(BuildPrim { bounds: b, centroid: b.centroid(), index: i as u32 })
             })
             .collect();
+        let (n, degenerate) = (prims.len(), n - prims.len());
         let both = prims
             .par_chunks(4096)
             .map(bounds_of)
@@ -181,7 +191,7 @@ impl Bvh {
         };
         w.run();
         let Widen { nodes, blocks, recs, depth, .. } = w;
-        Bvh { nodes, blocks, recs, depth }
+        Bvh { nodes, blocks, recs, depth, degenerate }
     }
 
     pub fn stats(&self) -> BvhStats {

@@ -22,6 +22,14 @@ impl Triangle {
     pub fn cross(&self) -> Vec3 {
         (self.p[1] - self.p[0]).cross(self.p[2] - self.p[0])
     }
+
+    /// Whether it has an area (and so a normal) in single precision. One
+    /// without could still be "hit" through rounding, with no normal to
+    /// shade by, so the BVH leaves such triangles out.
+    pub fn has_area(&self) -> bool {
+        let n = self.cross();
+        n.length_squared() > 0.0 && n.is_finite()
+    }
 }
 
 #[derive(Clone, Copy, Debug)]

@@ -141,11 +141,6 @@ fn pool_index(pool: &'static str, i: i64, size: usize) -> Result<u32, SceneError
 
 /// False for triangles with no area (or a non-finite normal): they are
 /// skipped, with a warning, rather than rendered as slivers.
-fn has_area(t: &Triangle) -> bool {
-    let n = t.cross();
-    n.length_squared() > 0.0 && n.is_finite()
-}
-
 fn finite(v: Vec3) -> Result<Vec3, SceneError> {
     if v.is_finite() { Ok(v) } else { Err(SceneError::NotFinite) }
 }
@@ -317,20 +312,6 @@ impl Builder {
         }
     }
 
-    /// The indices of the primitives to render: all but triangles with no
-    /// area (in parallel, in order).
-    pub fn live_prims(&self) -> Vec<u32> {
-        use rayon::prelude::*;
-        (0..self.prims.len() as u32)
-            .into_par_iter()
-            .with_min_len(4096)
-            .filter(|&i| match self.shape(i as usize) {
-                Shape::Triangle(t) => has_area(&t),
-                Shape::Sphere { .. } => true,
-            })
-            .collect()
-    }
-
     /// The bounding box of every primitive (empty when there are none).
     pub fn bounds(&self) -> Aabb {
         self.prims.iter().fold(Aabb::EMPTY, |b, prim| match *prim {
@@ -422,7 +403,7 @@ impl Builder {
         for (k, t) in mesh.tris.iter().enumerate() {
             let n = corner_normals.as_ref().map(|c| c[k]).unwrap_or([Triangle::FLAT; 3]);
             let p = t.map(|i| positions[i as usize]);
-            if has_area(&Triangle { p, normals: n, material }) {
+            if (Triangle { p, normals: n, material }).has_area() {
                 added += 1;
             }
             self.prims.push(Prim::MeshTri { v: t.map(|i| vbase + i), n, material });

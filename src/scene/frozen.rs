@@ -31,9 +31,8 @@ impl Scene {
     pub fn freeze(b: &Builder) -> Result<Scene, SceneError> {
         let camera = b.camera()?;
         let start = Instant::now();
-        let live = b.live_prims();
-        let degenerate = b.prims.len() - live.len();
-        let bvh = Bvh::build_from(live.len(), |i| b.shape(live[i] as usize));
+        let bvh = Bvh::build_from(b.prims.len(), |i| b.shape(i));
+        let degenerate = bvh.degenerate;
         let build_seconds = start.elapsed().as_secs_f64();
         Ok(Scene {
             camera,
