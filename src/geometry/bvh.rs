@@ -8,7 +8,7 @@
 
 use std::cell::Cell;
 
-use glam::{Vec3, Vec4};
+use glam::{Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use super::aabb::ROBUST;
@@ -132,10 +132,72 @@ pub struct Bvh {
     pub degenerate: usize,
 }
 
+/// A box in SIMD lanes, for the build's inner loops.
+#[derive(Clone, Copy, Debug)]
+struct Box3A {
+    min: Vec3A,
+    max: Vec3A,
+}
+
+impl Box3A {
+    const EMPTY: Box3A = Box3A { min: Vec3A::INFINITY, max: Vec3A::NEG_INFINITY };
+
+    #[inline(always)]
+    fn union(self, o: Box3A) -> Box3A {
+        Box3A { min: self.min.min(o.min), max: self.max.max(o.max) }
+    }
+
+    #[inline(always)]
+    fn grow(self, p: Vec3A) -> Box3A {
+        Box3A { min: self.min.min(p), max: self.max.max(p) }
+    }
+
+    fn extent(&self) -> Vec3A {
+        (self.max - self.min).max(Vec3A::ZERO)
+    }
+
+    fn surface_area(&self) -> f32 {
+        let e = self.extent();
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+
+    fn aabb(&self) -> Aabb {
+        Aabb { min: self.min.into(), max: self.max.into() }
+    }
+}
+
+/// A primitive during the build: its bounds in SIMD lanes, with its index
+/// in the spare lane of `min` (tagged so it reads as a normal float, which
+/// keeps arithmetic on that lane fast).
+#[derive(Clone, Copy, Debug)]
 struct BuildPrim {
-    bounds: Aabb,
-    centroid: Vec3,
-    index: u32,
+    min: Vec4,
+    max: Vec4,
+}
+
+/// Sets the exponent of a stored index so the lane is a normal float.
+const TAG: u32 = 0x4000_0000;
+
+impl BuildPrim {
+    fn new(b: Aabb, index: u32) -> BuildPrim {
+        debug_assert!(index < 0x3f00_0000);
+        BuildPrim { min: b.min.extend(f32::from_bits(TAG | index)), max: b.max.extend(2.0) }
+    }
+
+    fn index(&self) -> usize {
+        (self.min.w.to_bits() & !TAG) as usize
+    }
+
+    #[inline(always)]
+    fn bounds(&self) -> Box3A {
+        Box3A { min: Vec3A::from_vec4(self.min), max: Vec3A::from_vec4(self.max) }
+    }
+
+    /// Twice the centroid (the halving would change no decision).
+    #[inline(always)]
+    fn centroid2(&self) -> Vec3A {
+        Vec3A::from_vec4(self.min + self.max)
+    }
 }
 
 /// A stack entry of the walk: a child reference and its entry distance.
@@ -169,17 +231,16 @@ impl Bvh {
                 {
                     return None;
                 }
-                let b = s.bounds();
-                Some(BuildPrim { bounds: b, centroid: b.centroid(), index: i as u32 })
+                Some(BuildPrim::new(s.bounds(), i as u32))
             })
             .collect();
         let (n, degenerate) = (prims.len(), n - prims.len());
         let both = prims
             .par_chunks(4096)
             .map(bounds_of)
-            .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(b.0), a.1.union(b.1)));
+            .reduce(|| (Box3A::EMPTY, Box3A::EMPTY), |a, b| (a.0.union(b.0), a.1.union(b.1)));
         let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, both, 0, 1) };
-        let mut ordered: Vec<Shape> = prims.par_iter().map(|p| shape(p.index as usize)).collect();
+        let mut ordered: Vec<Shape> = prims.par_iter().map(|p| shape(p.index())).collect();
         drop(prims);
         let mut w = Widen {
             bin: &binary,
@@ -516,15 +577,15 @@ impl Widen<'_> {
     }
 }
 
-fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Aabb) -> Node {
-    Node::new(bounds, first as u32, prims.len() as u32)
+fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Box3A) -> Node {
+    Node::new(bounds.aabb(), first as u32, prims.len() as u32)
 }
 
 /// Subtrees larger than this are built on two threads at once.
 const PARALLEL_BUILD: usize = 8 * 1024;
 
 /// A set of primitives' bounds and the bounds of their centroids.
-type Bounds2 = (Aabb, Aabb);
+type Bounds2 = (Box3A, Box3A);
 
 enum Split {
     Leaf,
@@ -537,20 +598,21 @@ enum Split {
 #[derive(Clone, Copy)]
 struct Bins {
     counts: [usize; BINS],
-    boxes: [Aabb; BINS],
-    centroids: [Aabb; BINS],
+    boxes: [Box3A; BINS],
+    centroids: [Box3A; BINS],
 }
 
 impl Bins {
     const EMPTY: Bins =
-        Bins { counts: [0; BINS], boxes: [Aabb::EMPTY; BINS], centroids: [Aabb::EMPTY; BINS] };
+        Bins { counts: [0; BINS], boxes: [Box3A::EMPTY; BINS], centroids: [Box3A::EMPTY; BINS] };
 
-    fn add(mut self, prims: &[BuildPrim], bin_of: impl Fn(Vec3) -> usize) -> Bins {
+    fn add(mut self, prims: &[BuildPrim], bin_of: impl Fn(Vec3A) -> usize) -> Bins {
         for p in prims {
-            let b = bin_of(p.centroid);
+            let c = p.centroid2();
+            let b = bin_of(c);
             self.counts[b] += 1;
-            self.boxes[b] = self.boxes[b].union(p.bounds);
-            self.centroids[b] = self.centroids[b].grow(p.centroid);
+            self.boxes[b] = self.boxes[b].union(p.bounds());
+            self.centroids[b] = self.centroids[b].grow(c);
         }
         self
     }
@@ -566,7 +628,7 @@ impl Bins {
 
     /// The bounds of the primitives in `range` of the buckets.
     fn bounds(&self, range: std::ops::Range<usize>) -> Bounds2 {
-        range.fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), i| {
+        range.fold((Box3A::EMPTY, Box3A::EMPTY), |(b, c), i| {
             (b.union(self.boxes[i]), c.union(self.centroids[i]))
         })
     }
@@ -601,7 +663,7 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): Bounds2, level: usize) -> S
         return halve();
     }
     let scale = BINS as f32 / span;
-    let bin_of = |c: Vec3| (((c[axis] - lo) * scale) as usize).min(BINS - 1);
+    let bin_of = |c: Vec3A| (((c[axis] - lo) * scale) as usize).min(BINS - 1);
     let bins = if prims.len() >= PARALLEL_BUILD {
         prims
             .par_chunks(PARALLEL_BUILD / 2)
@@ -612,14 +674,14 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): Bounds2, level: usize) -> S
     };
     let mut right_area = [0.0f32; BINS];
     let mut right_count = [0usize; BINS];
-    let (mut acc, mut n) = (Aabb::EMPTY, 0);
+    let (mut acc, mut n) = (Box3A::EMPTY, 0);
     for i in (1..BINS).rev() {
         acc = acc.union(bins.boxes[i]);
         n += bins.counts[i];
         right_area[i] = acc.surface_area();
         right_count[i] = n;
     }
-    let (mut acc, mut n) = (Aabb::EMPTY, 0);
+    let (mut acc, mut n) = (Box3A::EMPTY, 0);
     let mut best = (f32::INFINITY, 0);
     for i in 0..BINS - 1 {
         acc = acc.union(bins.boxes[i]);
@@ -643,7 +705,7 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): Bounds2, level: usize) -> S
     }
     let mut i = 0;
     for j in 0..prims.len() {
-        if bin_of(prims[j].centroid) <= best.1 {
+        if bin_of(prims[j].centroid2()) <= best.1 {
             prims.swap(i, j);
             i += 1;
         }
@@ -663,7 +725,7 @@ fn blocks_of(n: usize) -> f32 {
 fn bounds_of(prims: &[BuildPrim]) -> Bounds2 {
     prims
         .iter()
-        .fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(p.bounds), c.grow(p.centroid)))
+        .fold((Box3A::EMPTY, Box3A::EMPTY), |(b, c), p| (b.union(p.bounds()), c.grow(p.centroid2())))
 }
 
 /// The children's bounds: from the binning, or counted afresh.
@@ -675,8 +737,8 @@ fn child_bounds(
     known.unwrap_or_else(|| [bounds_of(left), bounds_of(right)])
 }
 
-fn inner(bounds: Aabb) -> Node {
-    Node::new(bounds, 0, 0)
+fn inner(bounds: Box3A) -> Node {
+    Node::new(bounds.aabb(), 0, 0)
 }
 
 /// Builds the subtree over `prims` (which start at `first` in the final
