@@ -723,9 +723,9 @@ fn blocks_of(n: usize) -> f32 {
 
 /// The bounds of the primitives and of their centroids, in one pass.
 fn bounds_of(prims: &[BuildPrim]) -> Bounds2 {
-    prims
-        .iter()
-        .fold((Box3A::EMPTY, Box3A::EMPTY), |(b, c), p| (b.union(p.bounds()), c.grow(p.centroid2())))
+    prims.iter().fold((Box3A::EMPTY, Box3A::EMPTY), |(b, c), p| {
+        (b.union(p.bounds()), c.grow(p.centroid2()))
+    })
 }
 
 /// The children's bounds: from the binning, or counted afresh.

@@ -309,8 +309,8 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
     let st = state.clone();
     interp.register_host(
         "raybench",
-        "?-shadow? ?-brute?",
-        "trace the primary rays (and shadow rays to the first light) without shading; returns timings (-brute adds the brute-force baseline)",
+        "?-shadow? ?-brute? ?-threads count?",
+        "trace the primary rays (and shadow rays to the first light) without shading; returns timings (-brute adds the brute-force baseline; -threads runs on a pool of that many threads)",
         move |_, argv| raybench_command(&s.borrow(), &st, argv),
     );
     let st = state.clone();
@@ -474,27 +474,62 @@ fn render_command(
     Ok(Value::empty())
 }
 
+/// The session's pool of `n` threads, made on first use.
+fn pool(
+    state: &RefCell<ShellState>,
+    n: usize,
+) -> Result<std::sync::Arc<rayon::ThreadPool>, Exception> {
+    let mut st = state.borrow_mut();
+    if let Some((_, p)) = st.pools.iter().find(|(k, _)| *k == n) {
+        return Ok(p.clone());
+    }
+    let p = rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .map_err(|e| Exception::error(format!("cannot start {n} threads: {e}")))?;
+    let p = std::sync::Arc::new(p);
+    st.pools.push((n, p.clone()));
+    Ok(p)
+}
+
 fn raybench_command(
     b: &Builder,
     state: &RefCell<ShellState>,
     argv: &[Value],
 ) -> Result<Value, Exception> {
-    check_args(argv, 1, 3, "?-shadow? ?-brute?")?;
-    let (mut shadow, mut brute) = (false, false);
-    for o in &argv[1..] {
+    check_args(argv, 1, 5, "?-shadow? ?-brute? ?-threads count?")?;
+    let (mut shadow, mut brute, mut threads) = (false, false, None);
+    let mut args = argv[1..].iter();
+    while let Some(o) = args.next() {
         match o.as_str() {
             "-shadow" => shadow = true,
             "-brute" => brute = true,
+            "-threads" => {
+                let n = args.next().map(|v| v.as_str()).unwrap_or("");
+                match n.parse::<usize>() {
+                    Ok(n @ 1..=256) => threads = Some(n),
+                    _ => {
+                        return Err(Exception::error(format!(
+                            "expected a thread count from 1 to 256 but got \"{n}\""
+                        )));
+                    }
+                }
+            }
             o => {
                 return Err(Exception::error(format!(
-                    "bad option \"{o}\": must be -shadow or -brute"
+                    "bad option \"{o}\": must be -shadow, -brute or -threads"
                 )));
             }
         }
     }
     let parse_seconds = state.borrow().since_last.elapsed().as_secs_f64();
     let scene = Scene::freeze(b).map_err(scene_err)?;
-    let (primary_s, shadow_s, rays) = render::raybench(&scene, shadow);
+    // With -threads, on a pool of its own: a script can time one and two
+    // threads in turn, in one process, so both see the same machine.
+    let (primary_s, shadow_s, rays) = match threads {
+        None => render::raybench(&scene, shadow),
+        Some(n) => pool(state, n)?.install(|| render::raybench(&scene, shadow)),
+    };
     let report = RenderReport::new(&scene, parse_seconds, primary_s + shadow_s, rays);
     let n = rays.primary as f64;
     let mut out = vec![

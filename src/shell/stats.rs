@@ -15,6 +15,8 @@ pub struct ShellState {
     pub last: Option<RenderReport>,
     /// Progress, preview, crop and pass order for renders.
     pub feedback: Feedback,
+    /// `raybench -threads N`'s thread pools, kept for the session.
+    pub pools: Vec<(usize, std::sync::Arc<rayon::ThreadPool>)>,
 }
 
 impl Default for ShellState {
@@ -24,6 +26,7 @@ impl Default for ShellState {
             since_last: Instant::now(),
             last: None,
             feedback: Feedback::new(ProgressMode::Auto),
+            pools: Vec::new(),
         }
     }
 }

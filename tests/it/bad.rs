@@ -16,6 +16,24 @@ use crate::util::{listing, raytrace, scratch, text};
 const CORPUS: &[(&str, &str, i32, &str)] = &[
     ("camera_from missing", "camera_from 1 2", 1, "wrong # args: should be \"camera_from x y z\""),
     (
+        "raybench no threads",
+        "raybench -threads 0",
+        1,
+        "expected a thread count from 1 to 256 but got \"0\"",
+    ),
+    (
+        "raybench threads word",
+        "raybench -threads",
+        1,
+        "expected a thread count from 1 to 256 but got \"\"",
+    ),
+    (
+        "raybench option",
+        "raybench -fast",
+        1,
+        "bad option \"-fast\": must be -shadow, -brute or -threads",
+    ),
+    (
         "camera_from extra",
         "camera_from 1 2 3 4",
         1,
