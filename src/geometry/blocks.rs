@@ -134,6 +134,34 @@ impl Block {
         (ok.bitmask(), t, [u, vv, w])
     }
 
+    /// The sphere test on all four lanes, each lane doing exactly the
+    /// arithmetic of `intersect_sphere`: the lanes hit within
+    /// `(t_min, t_max)` as a bit mask, and per lane the nearest root there.
+    #[inline(always)]
+    pub fn spheres(&self, ray: &Ray, t_min: f32, t_max: f32) -> (u32, Vec4) {
+        let v = &self.v;
+        let (d, o) = (ray.dir, ray.origin);
+        let (dx, dy, dz) = (Vec4::splat(d.x), Vec4::splat(d.y), Vec4::splat(d.z));
+        let (fx, fy, fz) =
+            (Vec4::splat(o.x) - v[0], Vec4::splat(o.y) - v[1], Vec4::splat(o.z) - v[2]);
+        let r2 = v[3] * v[3];
+        let a = Vec4::splat(d.length_squared());
+        let b = -(fx * dx + fy * dy + fz * dz);
+        let ba = b / a;
+        let (lx, ly, lz) = (fx + dx * ba, fy + dy * ba, fz + dz * ba);
+        let disc = a * (r2 - (lx * lx + ly * ly + lz * lz));
+        let c = (fx * fx + fy * fy + fz * fz) - r2;
+        let q = b + b.signum() * disc.sqrt();
+        let (t0, t1) = (c / q, q / a);
+        let order = t0.cmplt(t1);
+        let (lo, hi) = (Vec4::select(order, t0, t1), Vec4::select(order, t1, t0));
+        let (t_min, t_max) = (Vec4::splat(t_min), Vec4::splat(t_max));
+        let in_lo = lo.cmpgt(t_min) & lo.cmplt(t_max);
+        let in_hi = hi.cmpgt(t_min) & hi.cmplt(t_max);
+        let ok = !disc.cmplt(Vec4::ZERO) & q.cmpne(Vec4::ZERO) & (in_lo | in_hi);
+        (ok.bitmask(), Vec4::select(in_lo, lo, hi))
+    }
+
     /// The nearest hit on the sphere in `lane` within `(t_min, t_max)`.
     #[inline]
     pub fn sphere(&self, lane: usize, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
@@ -142,7 +170,7 @@ impl Block {
     }
 
     /// The lanes that hold a primitive.
-    #[inline(always)]
+    #[cfg(test)]
     pub fn lanes(&self) -> impl Iterator<Item = usize> + '_ {
         (0..4).filter(|&l| self.prim[l] != NONE)
     }

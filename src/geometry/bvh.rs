@@ -328,10 +328,13 @@ impl Bvh {
                 }
             }
             for b in spheres {
-                for l in b.lanes() {
-                    if let Some(t) = b.sphere(l, ray, t_min, *t_max) {
-                        *t_max = t;
-                        best = Some(Hit { t, prim: b.prim[l], uv: [0.0; 2] });
+                let (mut mask, t) = b.spheres(ray, t_min, *t_max);
+                while mask != 0 {
+                    let l = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    if t[l] < *t_max {
+                        *t_max = t[l];
+                        best = Some(Hit { t: t[l], prim: b.prim[l], uv: [0.0; 2] });
                     }
                 }
             }
@@ -366,7 +369,11 @@ impl Bvh {
                 }
             }
             for b in spheres {
-                for l in b.lanes() {
+                // Four at once first; then each sphere hit, root by root.
+                let (mut mask, _) = b.spheres(ray, t_min, *t_max);
+                while mask != 0 {
+                    let l = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
                     let mut from = t_min;
                     while let Some(t) = b.sphere(l, ray, from, *t_max) {
                         through *= pass(b.prim[l]);

@@ -160,3 +160,41 @@ fn blocks_are_watertight_and_match_the_scalar_test() {
     }
     assert_eq!(checked, origins.len() * 121);
 }
+
+#[test]
+fn sphere_blocks_match_the_scalar_test() {
+    // Random spheres four to a block (one lane empty in every third block),
+    // random rays from outside, inside and on the surface, random windows:
+    // the four-lane test must give the scalar test's answers to the bit.
+    let mut seed = 5;
+    for round in 0..2000 {
+        let n = if round % 3 == 0 { 3 } else { 4 };
+        let shapes: Vec<Shape> = (0..n)
+            .map(|_| Shape::Sphere {
+                center: Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 4.0,
+                radius: 0.1 + lcg(&mut seed) * 2.0,
+                material: 0,
+            })
+            .collect();
+        let mut packed = Vec::new();
+        let mut recs = vec![Rec { at: 0, normals: [0; 3], material: 0 }; n];
+        Block::pack(&shapes, 0, &mut packed, &mut recs);
+        let o = match round % 4 {
+            0 => match shapes[0] {
+                Shape::Sphere { center, radius, .. } => center + Vec3::X * radius,
+                _ => unreachable!(),
+            },
+            _ => Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 8.0 - 2.0,
+        };
+        let d = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) - 0.5;
+        let ray = Ray::new(o, d);
+        let (t_min, t_max) = (lcg(&mut seed) * 0.5, 1.0 + lcg(&mut seed) * 20.0);
+        let (mask, t) = packed[0].spheres(&ray, t_min, t_max);
+        for (l, s) in shapes.iter().enumerate() {
+            let scalar = s.intersect(&ray, &RayPre::new(d), t_min, t_max).map(|h| h.0);
+            let simd = (mask & 1 << l != 0).then(|| t[l]);
+            assert_eq!(simd, scalar, "round {round} lane {l}");
+        }
+        assert_eq!(mask >> n, 0, "an empty lane was hit");
+    }
+}
