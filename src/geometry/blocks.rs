@@ -1,8 +1,8 @@
 //! Leaf geometry in blocks of four: the BVH's leaves store their triangles
 //! (or spheres) four to a block, coordinates in SIMD lanes, so one pass of
-//! the watertight test covers four triangles. Each lane does exactly the
-//! arithmetic of the scalar test in `shapes`, so the hits are the same to
-//! the bit. What shading needs besides positions lives in one `Rec` per
+//! the watertight (or sphere) test covers four primitives. Each lane does
+//! exactly the arithmetic of the scalar test in `shapes`, so the hits are
+//! the same to the bit. What shading needs besides positions lives in one `Rec` per
 //! primitive.
 
 use glam::{Vec3, Vec4};
