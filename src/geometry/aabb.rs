@@ -1,31 +1,34 @@
-//! Axis-aligned bounding boxes and the slab test.
+//! Axis-aligned bounding boxes, corners in SIMD lanes (the BVH build's
+//! inner loops are unions of these), and the slab test's error bound.
 
-use glam::Vec3;
+use glam::Vec3A;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
-    pub min: Vec3,
-    pub max: Vec3,
+    pub min: Vec3A,
+    pub max: Vec3A,
 }
 
 impl Aabb {
-    pub const EMPTY: Aabb =
-        Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+    pub const EMPTY: Aabb = Aabb { min: Vec3A::INFINITY, max: Vec3A::NEG_INFINITY };
 
+    #[inline(always)]
     pub fn union(self, o: Aabb) -> Aabb {
         Aabb { min: self.min.min(o.min), max: self.max.max(o.max) }
     }
 
-    pub fn grow(self, p: Vec3) -> Aabb {
+    #[inline(always)]
+    pub fn grow(self, p: impl Into<Vec3A>) -> Aabb {
+        let p = p.into();
         Aabb { min: self.min.min(p), max: self.max.max(p) }
     }
 
-    pub fn centroid(&self) -> Vec3 {
+    pub fn centroid(&self) -> Vec3A {
         (self.min + self.max) * 0.5
     }
 
-    pub fn extent(&self) -> Vec3 {
-        (self.max - self.min).max(Vec3::ZERO)
+    pub fn extent(&self) -> Vec3A {
+        (self.max - self.min).max(Vec3A::ZERO)
     }
 
     pub fn surface_area(&self) -> f32 {
@@ -35,18 +38,6 @@ impl Aabb {
 
     pub fn is_empty(&self) -> bool {
         self.min.x > self.max.x
-    }
-
-    /// Slab test with a precomputed inverse direction; returns the entry
-    /// distance when the box is hit within `(t_min, t_max)`.
-    #[inline]
-    pub fn hit(&self, origin: Vec3, inv_dir: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
-        let t0 = (self.min - origin) * inv_dir;
-        let t1 = (self.max - origin) * inv_dir;
-        let tn = t0.min(t1).max_element().max(t_min);
-        // Robust traversal (Ize 2013): widen the exit by 2 ulps of error.
-        let tf = t0.max(t1).min_element().min(t_max) * ROBUST;
-        if tn <= tf { Some(tn) } else { None }
     }
 }
 

@@ -26,17 +26,22 @@ const TRAVERSAL_COST: f32 = 2.0;
 
 /// A node of the binary build tree: a leaf holds `count > 0` primitives
 /// from `offset`; an interior node's first child follows it and its second
-/// is at `offset`.
+/// is at `offset`. Corners unaligned, so a node is 32 bytes.
 #[derive(Clone, Copy, Debug)]
 struct Node {
-    bounds: Aabb,
+    min: Vec3,
     offset: u32,
+    max: Vec3,
     count: u32,
 }
 
 impl Node {
     fn new(bounds: Aabb, offset: u32, count: u32) -> Node {
-        Node { bounds, offset, count }
+        Node { min: bounds.min.into(), offset, max: bounds.max.into(), count }
+    }
+
+    fn bounds(&self) -> Aabb {
+        Aabb { min: self.min.into(), max: self.max.into() }
     }
 }
 
@@ -132,40 +137,6 @@ pub struct Bvh {
     pub degenerate: usize,
 }
 
-/// A box in SIMD lanes, for the build's inner loops.
-#[derive(Clone, Copy, Debug)]
-struct Box3A {
-    min: Vec3A,
-    max: Vec3A,
-}
-
-impl Box3A {
-    const EMPTY: Box3A = Box3A { min: Vec3A::INFINITY, max: Vec3A::NEG_INFINITY };
-
-    #[inline(always)]
-    fn union(self, o: Box3A) -> Box3A {
-        Box3A { min: self.min.min(o.min), max: self.max.max(o.max) }
-    }
-
-    #[inline(always)]
-    fn grow(self, p: Vec3A) -> Box3A {
-        Box3A { min: self.min.min(p), max: self.max.max(p) }
-    }
-
-    fn extent(&self) -> Vec3A {
-        (self.max - self.min).max(Vec3A::ZERO)
-    }
-
-    fn surface_area(&self) -> f32 {
-        let e = self.extent();
-        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
-    }
-
-    fn aabb(&self) -> Aabb {
-        Aabb { min: self.min.into(), max: self.max.into() }
-    }
-}
-
 /// A primitive during the build: its bounds in SIMD lanes, with its index
 /// in the spare lane of `min` (tagged so it reads as a normal float, which
 /// keeps arithmetic on that lane fast).
@@ -189,8 +160,8 @@ impl BuildPrim {
     }
 
     #[inline(always)]
-    fn bounds(&self) -> Box3A {
-        Box3A { min: Vec3A::from_vec4(self.min), max: Vec3A::from_vec4(self.max) }
+    fn bounds(&self) -> Aabb {
+        Aabb { min: Vec3A::from_vec4(self.min), max: Vec3A::from_vec4(self.max) }
     }
 
     /// Twice the centroid (the halving would change no decision).
@@ -238,7 +209,7 @@ impl Bvh {
         let both = prims
             .par_chunks(4096)
             .map(bounds_of)
-            .reduce(|| (Box3A::EMPTY, Box3A::EMPTY), |a, b| (a.0.union(b.0), a.1.union(b.1)));
+            .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(b.0), a.1.union(b.1)));
         let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, both, 0, 1) };
         let mut ordered: Vec<Shape> = prims.par_iter().map(|p| shape(p.index())).collect();
         drop(prims);
@@ -302,8 +273,8 @@ impl Bvh {
         (0..4)
             .filter(|&i| root.b[0][0][i] <= root.b[0][1][i])
             .map(|i| Aabb {
-                min: Vec3::new(root.b[0][0][i], root.b[1][0][i], root.b[2][0][i]),
-                max: Vec3::new(root.b[0][1][i], root.b[1][1][i], root.b[2][1][i]),
+                min: Vec3A::new(root.b[0][0][i], root.b[1][0][i], root.b[2][0][i]),
+                max: Vec3A::new(root.b[0][1][i], root.b[1][1][i], root.b[2][1][i]),
             })
             .fold(Aabb::EMPTY, Aabb::union)
     }
@@ -531,7 +502,7 @@ impl Widen<'_> {
             Some(&root) if root.count > 0 => {
                 let mut w = Wide::EMPTY;
                 let (child, count) = self.leaf(&root);
-                w.set(0, root.bounds, child, count);
+                w.set(0, root.bounds(), child, count);
                 self.nodes.push(w);
                 self.depth = 1;
             }
@@ -564,7 +535,7 @@ impl Widen<'_> {
         while k < 4 {
             let open = (0..k)
                 .filter(|&j| bin[kids[j]].count == 0)
-                .map(|j| (j, bin[kids[j]].bounds.surface_area()))
+                .map(|j| (j, bin[kids[j]].bounds().surface_area()))
                 .reduce(|a, b| if b.1 > a.1 { b } else { a });
             let Some((j, _)) = open else { break };
             let n = kids[j];
@@ -578,21 +549,21 @@ impl Widen<'_> {
             let n = &bin[c];
             let (child, count) =
                 if n.count > 0 { self.leaf(n) } else { (self.node(c, level + 1), 0) };
-            self.nodes[me].set(slot, n.bounds, child, count);
+            self.nodes[me].set(slot, n.bounds(), child, count);
         }
         me as u32
     }
 }
 
-fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Box3A) -> Node {
-    Node::new(bounds.aabb(), first as u32, prims.len() as u32)
+fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Aabb) -> Node {
+    Node::new(bounds, first as u32, prims.len() as u32)
 }
 
 /// Subtrees larger than this are built on two threads at once.
 const PARALLEL_BUILD: usize = 8 * 1024;
 
 /// A set of primitives' bounds and the bounds of their centroids.
-type Bounds2 = (Box3A, Box3A);
+type Bounds2 = (Aabb, Aabb);
 
 enum Split {
     Leaf,
@@ -605,13 +576,13 @@ enum Split {
 #[derive(Clone, Copy)]
 struct Bins {
     counts: [usize; BINS],
-    boxes: [Box3A; BINS],
-    centroids: [Box3A; BINS],
+    boxes: [Aabb; BINS],
+    centroids: [Aabb; BINS],
 }
 
 impl Bins {
     const EMPTY: Bins =
-        Bins { counts: [0; BINS], boxes: [Box3A::EMPTY; BINS], centroids: [Box3A::EMPTY; BINS] };
+        Bins { counts: [0; BINS], boxes: [Aabb::EMPTY; BINS], centroids: [Aabb::EMPTY; BINS] };
 
     fn add(mut self, prims: &[BuildPrim], bin_of: impl Fn(Vec3A) -> usize) -> Bins {
         for p in prims {
@@ -635,7 +606,7 @@ impl Bins {
 
     /// The bounds of the primitives in `range` of the buckets.
     fn bounds(&self, range: std::ops::Range<usize>) -> Bounds2 {
-        range.fold((Box3A::EMPTY, Box3A::EMPTY), |(b, c), i| {
+        range.fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), i| {
             (b.union(self.boxes[i]), c.union(self.centroids[i]))
         })
     }
@@ -681,14 +652,14 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): Bounds2, level: usize) -> S
     };
     let mut right_area = [0.0f32; BINS];
     let mut right_count = [0usize; BINS];
-    let (mut acc, mut n) = (Box3A::EMPTY, 0);
+    let (mut acc, mut n) = (Aabb::EMPTY, 0);
     for i in (1..BINS).rev() {
         acc = acc.union(bins.boxes[i]);
         n += bins.counts[i];
         right_area[i] = acc.surface_area();
         right_count[i] = n;
     }
-    let (mut acc, mut n) = (Box3A::EMPTY, 0);
+    let (mut acc, mut n) = (Aabb::EMPTY, 0);
     let mut best = (f32::INFINITY, 0);
     for i in 0..BINS - 1 {
         acc = acc.union(bins.boxes[i]);
@@ -730,9 +701,9 @@ fn blocks_of(n: usize) -> f32 {
 
 /// The bounds of the primitives and of their centroids, in one pass.
 fn bounds_of(prims: &[BuildPrim]) -> Bounds2 {
-    prims.iter().fold((Box3A::EMPTY, Box3A::EMPTY), |(b, c), p| {
-        (b.union(p.bounds()), c.grow(p.centroid2()))
-    })
+    prims
+        .iter()
+        .fold((Aabb::EMPTY, Aabb::EMPTY), |(b, c), p| (b.union(p.bounds()), c.grow(p.centroid2())))
 }
 
 /// The children's bounds: from the binning, or counted afresh.
@@ -744,8 +715,8 @@ fn child_bounds(
     known.unwrap_or_else(|| [bounds_of(left), bounds_of(right)])
 }
 
-fn inner(bounds: Box3A) -> Node {
-    Node::new(bounds.aabb(), 0, 0)
+fn inner(bounds: Aabb) -> Node {
+    Node::new(bounds, 0, 0)
 }
 
 /// Builds the subtree over `prims` (which start at `first` in the final

@@ -43,7 +43,8 @@ impl Shape {
         match self {
             Shape::Triangle(t) => Aabb::EMPTY.grow(t.p[0]).grow(t.p[1]).grow(t.p[2]),
             Shape::Sphere { center, radius, .. } => {
-                Aabb { min: *center - Vec3::splat(*radius), max: *center + Vec3::splat(*radius) }
+                let r = Vec3::splat(*radius);
+                Aabb { min: (*center - r).into(), max: (*center + r).into() }
             }
         }
     }

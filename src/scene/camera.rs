@@ -7,11 +7,6 @@ use crate::geometry::Ray;
 #[derive(Clone, Copy, Debug)]
 pub struct Camera {
     pub from: Vec3,
-    pub forward: Vec3,
-    pub right: Vec3,
-    pub up: Vec3,
-    /// tan of half the horizontal and vertical fields of view.
-    pub tan_half: (f32, f32),
     pub width: u32,
     pub height: u32,
     /// The direction to the top-left image corner and the steps from one
@@ -43,7 +38,7 @@ impl Camera {
         let corner = forward - right * th + up * tv;
         let dx = right * (2.0 * th / width as f32);
         let dy = up * (-2.0 * tv / height as f32);
-        Some(Camera { from, forward, right, up, tan_half: (th, tv), width, height, corner, dx, dy })
+        Some(Camera { from, width, height, corner, dx, dy })
     }
 
     /// The primary ray through the centre of pixel (x, y).

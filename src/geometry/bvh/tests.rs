@@ -64,7 +64,7 @@ fn every_primitive_is_reachable() {
     for (i, s) in bvh.shapes().iter().enumerate() {
         // A ray from just outside each primitive's centre towards it hits it
         // or something in front of it, never nothing.
-        let c = s.bounds().centroid();
+        let c = Vec3::from(s.bounds().centroid());
         let target = match s {
             Shape::Triangle(t) => (t.p[0] + t.p[1] + t.p[2]) / 3.0,
             Shape::Sphere { center, .. } => *center,
