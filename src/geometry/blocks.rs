@@ -29,28 +29,32 @@ pub(super) struct Block {
 pub(super) const SPHERE: u32 = 1 << 31;
 
 /// One primitive in leaf order: where its geometry is (block * 4 + lane,
-/// with `SPHERE` for spheres), its vertex normals and material.
-#[derive(Clone, Copy, Debug)]
+/// with `SPHERE` for spheres), its vertex normals and material, and its
+/// number in the scene (the order it was added in, whatever the tree).
+#[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Rec {
     pub at: u32,
     pub normals: [u32; 3],
     pub material: u32,
+    pub id: u32,
 }
 
 impl Block {
     const EMPTY: Block = Block { v: [Vec4::NAN; 9], prim: [NONE; 4] };
 
-    /// Packs `shapes` (all triangles or all spheres), the primitives from
-    /// `first` on, into blocks appended to `blocks`, and their records.
-    pub fn pack(shapes: &[Shape], first: u32, blocks: &mut Vec<Block>, recs: &mut [Rec]) {
+    /// Packs `shapes` (all triangles or all spheres, each with its number
+    /// in the scene), the primitives from `first` on, into blocks appended
+    /// to `blocks`, and their records.
+    pub fn pack(shapes: &[(u32, Shape)], first: u32, blocks: &mut Vec<Block>, recs: &mut [Rec]) {
         for (c, chunk) in shapes.chunks(4).enumerate() {
             let mut b = Block::EMPTY;
             let at = (blocks.len() * 4) as u32;
-            for (lane, s) in chunk.iter().enumerate() {
+            for (lane, (id, s)) in chunk.iter().enumerate() {
                 let prim = first + (c * 4 + lane) as u32;
                 b.prim[lane] = prim;
                 let rec = &mut recs[prim as usize];
                 rec.at = at + lane as u32;
+                rec.id = *id;
                 match s {
                     Shape::Triangle(t) => {
                         for (k, p) in t.p.iter().enumerate() {

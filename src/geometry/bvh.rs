@@ -18,6 +18,11 @@ use super::{Aabb, Hit, Ray, Shape};
 
 /// SAH buckets along the split axis.
 const BINS: usize = 16;
+/// Hits whose distances differ by less than this fraction count as one
+/// surface seen twice (coplanar triangles); the lower scene number wins.
+/// 2⁻¹⁶: far above the rounding of two coplanar triangles' distances, far
+/// below anything a picture can show.
+pub const TIE: f32 = 1.0 / 65536.0;
 /// The most primitives in a leaf: two blocks.
 const MAX_LEAF: usize = 8;
 /// Cost of a traversal step relative to testing one block of four
@@ -211,14 +216,15 @@ impl Bvh {
             .map(bounds_of)
             .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(b.0), a.1.union(b.1)));
         let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, both, 0, 1) };
-        let mut ordered: Vec<Shape> = prims.par_iter().map(|p| shape(p.index())).collect();
+        let mut ordered: Vec<(u32, Shape)> =
+            prims.par_iter().map(|p| (p.index() as u32, shape(p.index()))).collect();
         drop(prims);
         let mut w = Widen {
             bin: &binary,
             shapes: &mut ordered,
             nodes: Vec::with_capacity(binary.len() / 3 + 1),
             blocks: Vec::with_capacity(n / 4 + 1),
-            recs: vec![Rec { at: 0, normals: [0; 3], material: 0 }; n],
+            recs: vec![Rec::default(); n],
             depth: 0,
         };
         w.run();
@@ -258,6 +264,12 @@ impl Bvh {
         self.recs[prim as usize].material
     }
 
+    /// The number in the scene of primitive `prim` (its index in the
+    /// shapes the tree was built from).
+    pub fn id(&self, prim: u32) -> u32 {
+        self.recs[prim as usize].id
+    }
+
     /// The number of triangles (the rest are spheres).
     pub fn triangles(&self) -> usize {
         self.recs.iter().filter(|r| r.at & blocks::SPHERE == 0).count()
@@ -280,22 +292,37 @@ impl Bvh {
     }
 
     /// The closest hit in `(t_min, t_max)`, and the traversal steps taken
-    /// (nodes and leaf blocks: what the heatmap shows).
+    /// (nodes and leaf blocks: what the heatmap shows). Hits within `TIE`
+    /// of each other (coplanar surfaces) go to the primitive added first,
+    /// whatever the tree's layout, the order of the walk or the lane.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> (Option<Hit>, u32) {
-        let mut best: Option<Hit> = None;
+        let mut best: Option<(Hit, u32)> = None;
         let mut t_max = t_max;
         let pre = Pre4::new(ray, &RayPre::new(ray.dir));
+        let mut consider = |hit: Hit, t_max: &mut f32| {
+            let id = self.recs[hit.prim as usize].id;
+            let better = match best {
+                None => true,
+                // (A block's lanes were tested against the same limit, so
+                // a lane may lie beyond the band of one found before it.)
+                Some((b, b_id)) => {
+                    hit.t < b.t * (1.0 - TIE) || (hit.t <= b.t * (1.0 + TIE) && id < b_id)
+                }
+            };
+            if better {
+                best = Some((hit, id));
+                *t_max = t_max.min(hit.t * (1.0 + TIE));
+            }
+        };
         let steps = self.traverse(ray, t_min, &mut t_max, |tris, spheres, t_max| {
             for b in tris {
                 let (mut mask, t, [u, v, w]) = b.triangles(&pre, t_min, *t_max);
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
-                    if t[l] < *t_max {
-                        *t_max = t[l];
-                        let det = u[l] + v[l] + w[l];
-                        best = Some(Hit { t: t[l], prim: b.prim[l], uv: [v[l] / det, w[l] / det] });
-                    }
+                    let det = u[l] + v[l] + w[l];
+                    let hit = Hit { t: t[l], prim: b.prim[l], uv: [v[l] / det, w[l] / det] };
+                    consider(hit, t_max);
                 }
             }
             for b in spheres {
@@ -303,15 +330,12 @@ impl Bvh {
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
-                    if t[l] < *t_max {
-                        *t_max = t[l];
-                        best = Some(Hit { t: t[l], prim: b.prim[l], uv: [0.0; 2] });
-                    }
+                    consider(Hit { t: t[l], prim: b.prim[l], uv: [0.0; 2] }, t_max);
                 }
             }
             false
         });
-        (best, steps)
+        (best.map(|b| b.0), steps)
     }
 
     /// What reaches the end of a shadow segment: the product of `pass(prim)`
@@ -486,9 +510,9 @@ thread_local! {
 /// first. Nodes are laid out root first, depth-first.
 struct Widen<'a> {
     bin: &'a [Node],
-    /// The primitives in leaf order (each leaf's are reordered, triangles
-    /// first, as they are packed).
-    shapes: &'a mut [Shape],
+    /// The primitives in leaf order, with their numbers in the scene (each
+    /// leaf's are reordered, triangles first, as they are packed).
+    shapes: &'a mut [(u32, Shape)],
     nodes: Vec<Wide>,
     blocks: Vec<Block>,
     recs: Vec<Rec>,
@@ -517,8 +541,8 @@ impl Widen<'_> {
         let (first, count) = (n.offset as usize, n.count as usize);
         let mine = &mut self.shapes[first..first + count];
         // Stable: triangles first, then spheres.
-        mine.sort_by_key(|s| matches!(s, Shape::Sphere { .. }));
-        let tris = mine.iter().take_while(|s| matches!(s, Shape::Triangle(_))).count();
+        mine.sort_by_key(|s| matches!(s.1, Shape::Sphere { .. }));
+        let tris = mine.iter().take_while(|s| matches!(s.1, Shape::Triangle(_))).count();
         let start = self.blocks.len() as u32;
         Block::pack(&mine[..tris], first as u32, &mut self.blocks, &mut self.recs);
         let tri_blocks = self.blocks.len() as u32 - start;

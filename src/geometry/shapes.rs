@@ -113,15 +113,19 @@ impl RayPre {
 }
 
 /// The closest hit found by testing every primitive in turn: the baseline
-/// the hierarchy is measured (and checked) against. `Hit::prim` indexes
-/// `shapes`.
+/// the hierarchy is measured (and checked) against, with its tie rule.
+/// `Hit::prim` indexes `shapes`.
 pub fn intersect_brute(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
     let pre = RayPre::new(ray.dir);
     let mut best: Option<Hit> = None;
     let mut t_max = t_max;
+    // In index order, so of hits within `TIE` of each other the first
+    // stays, as in the hierarchy.
     for (k, s) in shapes.iter().enumerate() {
-        if let Some((t, uv)) = s.intersect(ray, &pre, t_min, t_max) {
-            t_max = t;
+        if let Some((t, uv)) = s.intersect(ray, &pre, t_min, t_max)
+            && best.is_none_or(|b| t < b.t * (1.0 - super::bvh::TIE))
+        {
+            t_max = t_max.min(t * (1.0 + super::bvh::TIE));
             best = Some(Hit { t, prim: k as u32, uv });
         }
     }

@@ -778,9 +778,13 @@ fn call_numeric(
         return Err(Exception::wrong_args(usage));
     }
     let mut nums: SmallVec<[Num; 8]> = SmallVec::new();
-    for v in &argv[1..] {
+    for (i, v) in argv[1..].iter().enumerate() {
         nums.push(v.as_num().ok_or_else(|| {
-            Exception::error(format!("expected number but got \"{}\"", v.as_str()))
+            // Name the command and the argument, as the usage spells it.
+            let mut words = usage.split_whitespace();
+            let name = words.next().unwrap_or("");
+            let arg = words.nth(i).unwrap_or("?");
+            Exception::error(format!("{name}: {arg}: expected number but got \"{}\"", v.as_str()))
         })?);
     }
     Ok(match f(interp, &nums)? {

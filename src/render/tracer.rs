@@ -3,19 +3,29 @@
 //! ```text
 //!   Ka·ambient·colour
 //! + Σ lights a shadow ray reaches: [Kd·colour·light·max(0, N·L) + Ks·light·max(0, R·V)^n_s]
-//! + Ks·(reflected ray) + T·(transmitted ray, Snell's law, total internal reflection)
+//! + Ks·(reflected ray) + T·colour·(transmitted ray, Snell's law)
 //! ```
 //!
-//! Shadow rays pass through transmitting surfaces, tinted by T·colour at
-//! each surface crossed. Secondary rays start from a point offset along the
-//! geometric normal by an amount relative to the point's magnitude.
+//! Glass filters by T·colour at each surface crossed, for the view through
+//! it and for the shadows it casts alike. Total internal reflection sends
+//! everything that would have been transmitted back in, undimmed.
+//! Refraction follows the media a ray is inside (`Media`), so an air
+//! bubble in glass bends light from 1.5 to 1, not from 1 to 1.
+//!
+//! Robustness: the scene is relative to the eye, and secondary rays start
+//! off the surface by a fixed fraction of the coordinates' magnitude
+//! (`offset`), so the picture is the same at any translation or scale.
+//! Shadow rays of smooth triangles start from Hanika's point on the
+//! smooth surface ("Hacking the shadow terminator", Ray Tracing Gems II,
+//! ch. 4), so coarse meshes show no facet-shaped notches.
 
 use glam::Vec3;
 use std::sync::Mutex;
 
 use super::job::{Job, per_pixel};
-use crate::geometry::{Hit, Ray, Shape, intersect_brute};
+use crate::geometry::{Hit, Ray, Shape, Triangle, intersect_brute};
 use crate::image::Image;
+use crate::scene::Material;
 use crate::scene::Scene;
 
 /// A ray whose contribution to its pixel is below this is not traced.
@@ -62,9 +72,64 @@ pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     Some(eta * d + (eta * cos_i - k.sqrt()) * n)
 }
 
-/// How far to move a secondary ray's origin off the surface at `p`.
-fn offset(p: Vec3) -> f32 {
-    1e-4 * p.abs().max_element().max(1.0)
+/// A secondary ray starts this fraction of the coordinates' magnitude off
+/// the surface (2⁻¹³, about 10⁻⁴: some 1,000 units in the last place of
+/// single precision, well above the error of a hit point).
+const OFFSET: f32 = 1.0 / 8192.0;
+
+/// How far to move a secondary ray's origin off the surface at `p`, hit by
+/// a ray from `o`. Coordinates are relative to the eye, so this scales
+/// with the scene and does not change when the scene (with its camera)
+/// moves.
+fn offset(p: Vec3, o: Vec3) -> f32 {
+    (OFFSET * p.abs().max(o.abs()).max_element()).max(f32::MIN_POSITIVE)
+}
+
+/// The most nested media a ray keeps track of; deeper, the outermost is
+/// forgotten.
+const MAX_MEDIA: usize = 6;
+
+/// The media a ray travels in, innermost last: for each enclosure entered
+/// and not left, its material and index of refraction. Outside them all is
+/// air (index 1). An enclosure is known by its material: entering a surface
+/// pushes its material, leaving one removes the innermost entry with that
+/// material (so overlapping objects of one glass behave as their union).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Media {
+    len: u8,
+    items: [(u32, f32); MAX_MEDIA],
+}
+
+impl Media {
+    /// The index of refraction the ray travels in.
+    pub fn ior(&self) -> f32 {
+        match self.len {
+            0 => 1.0,
+            n => self.items[n as usize - 1].1,
+        }
+    }
+
+    /// Inside the enclosure of `material` as well.
+    pub fn enter(mut self, material: u32, ior: f32) -> Media {
+        if self.len as usize == MAX_MEDIA {
+            self.items.copy_within(1.., 0);
+            self.len -= 1;
+        }
+        self.items[self.len as usize] = (material, ior);
+        self.len += 1;
+        self
+    }
+
+    /// Out of the innermost enclosure of `material` (unchanged if the ray
+    /// was not known to be inside one: a camera inside glass, an open mesh).
+    pub fn leave(mut self, material: u32) -> Media {
+        let n = self.len as usize;
+        if let Some(i) = self.items[..n].iter().rposition(|&(m, _)| m == material) {
+            self.items.copy_within(i + 1..n, i);
+            self.len -= 1;
+        }
+        self
+    }
 }
 
 /// Renders the job's part of the picture; also returns the ray counts.
@@ -82,7 +147,7 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     };
     let stats = per_pixel(cam.width, cam.height, job, out, |x, y, st| {
         st.primary += 1;
-        trace(scene, &cam.ray(x, y), 0, 1.0, st)
+        trace(scene, &cam.ray(x, y), 0, 1.0, Media::default(), st)
     })?;
     let pixels = out.lock().unwrap_or_else(|e| e.into_inner()).clone();
     Some((Image { width: r.width(), height: r.height(), pixels }, stats))
@@ -153,7 +218,7 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
             return 0u8;
         }
         let (l, dist, _) = light.at(p);
-        let eps = offset(p);
+        let eps = offset(p, Vec3::ZERO);
         st.shadow += 1;
         let t_max = if dist.is_finite() { dist - 2.0 * eps } else { f32::INFINITY };
         // Start on the light's side of the surface.
@@ -190,57 +255,109 @@ pub fn raybench_brute(scene: &Scene, budget: u64) -> (u64, f64) {
     (rays, start.elapsed().as_secs_f64())
 }
 
-/// The colour seen along `ray`, `depth` bounces deep.
-pub fn trace(scene: &Scene, ray: &Ray, depth: u32, weight: f32, st: &mut RayStats) -> Vec3 {
+/// The colour seen along `ray`, `depth` bounces deep, travelling in
+/// `media`.
+pub fn trace(
+    scene: &Scene,
+    ray: &Ray,
+    depth: u32,
+    weight: f32,
+    media: Media,
+    st: &mut RayStats,
+) -> Vec3 {
     let (hit, steps) = scene.bvh.intersect(ray, 0.0, f32::INFINITY);
     st.bvh_steps += steps as u64;
     match hit {
-        Some(h) => shade(scene, ray, &h, depth, weight, st),
+        Some(h) => shade(scene, ray, &h, depth, weight, media, st),
         None => scene.background,
     }
 }
 
-fn shade(scene: &Scene, ray: &Ray, hit: &Hit, depth: u32, weight: f32, st: &mut RayStats) -> Vec3 {
-    let shape = scene.bvh.shape(hit.prim);
-    let m = &scene.materials[shape.material() as usize];
-    let p = ray.at(hit.t);
-    let d = ray.dir.normalize();
-    // Geometric and shading normals, outward (counter-clockwise) first.
-    let (mut ng, mut ns) = match shape {
+/// The local geometry of a hit, every normal turned to the side the ray
+/// came from.
+struct Surface {
+    /// The geometric normal (unit).
+    ng: Vec3,
+    /// The shading normal (unit): interpolated for smooth triangles.
+    ns: Vec3,
+    /// Whether the ray arrives from the outside: the side the shading
+    /// normals point to for smooth triangles, the counter-clockwise side
+    /// for flat ones, the outside of a sphere.
+    front: bool,
+    /// Where shadow rays start: the hit point, or for smooth triangles the
+    /// point Hanika's method lifts it to.
+    shadow_from: Vec3,
+}
+
+fn surface(scene: &Scene, shape: &Shape, p: Vec3, d: Vec3, uv: [f32; 2]) -> Surface {
+    let (ng_out, ns_out, vertex_normals) = match shape {
         Shape::Sphere { center, .. } => {
-            let n = (p - center).normalize();
-            (n, n)
+            let n = (p - *center).normalize();
+            (n, n, None)
         }
         Shape::Triangle(t) => {
             let ng = t.cross().normalize();
-            if t.normals[0] == crate::geometry::Triangle::FLAT {
-                (ng, ng)
+            if t.normals[0] == Triangle::FLAT {
+                (ng, ng, None)
             } else {
-                let [u, v] = hit.uv;
-                let n = &scene.normals;
-                let ns = n[t.normals[0] as usize] * (1.0 - u - v)
-                    + n[t.normals[1] as usize] * u
-                    + n[t.normals[2] as usize] * v;
-                (ng, ns.try_normalize().unwrap_or(ng))
+                let n = t.normals.map(|i| scene.normals[i as usize]);
+                // The vertex normals say which side is outside, whichever
+                // way the triangle is wound.
+                let ng = if ng.dot(n[0] + n[1] + n[2]) < 0.0 { -ng } else { ng };
+                let [u, v] = uv;
+                let ns = (n[0] * (1.0 - u - v) + n[1] * u + n[2] * v).try_normalize().unwrap_or(ng);
+                (ng, ns, Some((t.p, n, [1.0 - u - v, u, v])))
             }
         }
     };
-    let entering = d.dot(ng) < 0.0;
-    if !entering {
-        ng = -ng;
-        ns = -ns;
+    let front = d.dot(ng_out) < 0.0;
+    let side = if front { 1.0 } else { -1.0 };
+    let shadow_from = match vertex_normals {
+        Some((v, n, b)) => terminator(p, v, n.map(|n| n * side), b),
+        None => p,
+    };
+    Surface { ng: ng_out * side, ns: ns_out * side, front, shadow_from }
+}
+
+/// Hanika's shadow-terminator fix: the barycentric mean of `p` lifted onto
+/// each vertex's tangent plane (only where it lies below it), a point on
+/// the smooth surface the normals describe rather than on the flat facet.
+fn terminator(p: Vec3, v: [Vec3; 3], n: [Vec3; 3], b: [f32; 3]) -> Vec3 {
+    let mut lifted = p;
+    for k in 0..3 {
+        let below = (p - v[k]).dot(n[k]).min(0.0);
+        lifted -= b[k] * below * n[k];
     }
-    if ns.dot(ng) < 0.0 {
-        ns = ng;
-    }
-    let eps = offset(p);
+    lifted
+}
+
+#[allow(clippy::too_many_arguments)]
+fn shade(
+    scene: &Scene,
+    ray: &Ray,
+    hit: &Hit,
+    depth: u32,
+    weight: f32,
+    media: Media,
+    st: &mut RayStats,
+) -> Vec3 {
+    let shape = scene.bvh.shape(hit.prim);
+    let material = shape.material();
+    let m = &scene.materials[material as usize];
+    let p = ray.at(hit.t);
+    let d = ray.dir.normalize();
+    let Surface { ng, ns, front, shadow_from } = surface(scene, &shape, p, d, hit.uv);
+    let eps = offset(p, ray.origin);
     let above = p + ng * eps;
     let view = -d;
 
     let mut color = m.ka * scene.ambient * m.color;
+    let shadow_origin = shadow_from + ng * offset(shadow_from, ray.origin);
     for light in &scene.lights {
-        let (l, dist, li) = light.at(p);
-        if li == Vec3::ZERO || l.dot(ng) <= 0.0 {
+        // A light below the facet but above the smooth surface is left to
+        // the shadow ray from the lifted point, not cut off here.
+        let (l, _, li) = light.at(p);
+        if li == Vec3::ZERO {
             continue;
         }
         let n_dot_l = ns.dot(l);
@@ -248,10 +365,10 @@ fn shade(scene: &Scene, ray: &Ray, hit: &Hit, depth: u32, weight: f32, st: &mut 
             continue;
         }
         st.shadow += 1;
-        let t_max = if dist.is_finite() { dist - 2.0 * eps } else { f32::INFINITY };
-        let through = scene.bvh.transmittance(&Ray::new(above, l), 0.0, t_max, |prim| {
-            let om = &scene.materials[scene.bvh.material(prim) as usize];
-            if om.t > 0.0 { om.t * om.color } else { Vec3::ZERO }
+        let (l_s, dist_s, _) = light.at(shadow_origin);
+        let t_max = if dist_s.is_finite() { dist_s * (1.0 - 2.0 * OFFSET) } else { f32::INFINITY };
+        let through = scene.bvh.transmittance(&Ray::new(shadow_origin, l_s), 0.0, t_max, |prim| {
+            filter(&scene.materials[scene.bvh.material(prim) as usize])
         });
         if through == Vec3::ZERO {
             continue;
@@ -271,21 +388,46 @@ fn shade(scene: &Scene, ray: &Ray, hit: &Hit, depth: u32, weight: f32, st: &mut 
         if m.ks > 0.0 && weight * m.ks >= MIN_WEIGHT {
             st.reflected += 1;
             let r = Ray::new(above, reflect(d, ns));
-            color += m.ks * trace(scene, &r, depth + 1, weight * m.ks, st);
+            color += m.ks * trace(scene, &r, depth + 1, weight * m.ks, media, st);
         }
-        if m.t > 0.0 && weight * m.t >= MIN_WEIGHT {
-            let eta = if entering { 1.0 / m.ior } else { m.ior };
-            let r = match refract(d, ns, eta) {
-                Some(dir) => Ray::new(p - ng * eps, dir),
-                // Total internal reflection: the light stays inside.
-                None => Ray::new(above, reflect(d, ns)),
+        if m.t > 0.0 {
+            // The media on both sides of the surface.
+            let (n_from, beyond) = if front {
+                (media.ior(), media.enter(material, m.ior))
+            } else {
+                (m.ior, media.leave(material))
             };
-            st.refracted += 1;
-            color += m.t * trace(scene, &r, depth + 1, weight * m.t, st);
+            match refract(d, ns, n_from / beyond.ior()) {
+                Some(dir) => {
+                    let f = filter(m);
+                    if weight * f.max_element() >= MIN_WEIGHT {
+                        st.refracted += 1;
+                        let r = Ray::new(p - ng * eps, dir);
+                        color +=
+                            f * trace(scene, &r, depth + 1, weight * f.max_element(), beyond, st);
+                    }
+                }
+                None => {
+                    // Total internal reflection: what would have gone
+                    // through stays on this side, all of it.
+                    st.refracted += 1;
+                    let r = Ray::new(above, reflect(d, ns));
+                    color += TIR * trace(scene, &r, depth + 1, weight * TIR, media, st);
+                }
+            }
         }
     }
     color
 }
+
+/// How much of the light a transmitting surface lets through at each
+/// crossing (T·colour); opaque surfaces, none.
+fn filter(m: &Material) -> Vec3 {
+    if m.t > 0.0 { m.t * m.color } else { Vec3::ZERO }
+}
+
+/// The weight of a totally internally reflected ray.
+const TIR: f32 = 1.0;
 
 #[cfg(test)]
 mod tests {

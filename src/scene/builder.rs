@@ -3,12 +3,12 @@
 //! material (state that applies to the objects that follow, as in OpenGL).
 //! Every input is checked here, so a frozen `Scene` is always valid.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use super::camera::Camera;
 use super::light::Light;
 use super::material::Material;
-use crate::geometry::{Aabb, Shape, Triangle};
+use crate::geometry::{Shape, Triangle};
 
 /// The largest image, in pixels (64 Mpixel: 768 MiB of f32 RGB).
 pub const MAX_PIXELS: u64 = 1 << 26;
@@ -71,8 +71,8 @@ pub enum Prim {
         material: u32,
     },
     Sphere {
-        center: Vec3,
-        radius: f32,
+        center: DVec3,
+        radius: f64,
         material: u32,
     },
 }
@@ -80,22 +80,25 @@ pub enum Prim {
 /// Where the camera looks: at a point, or along a direction.
 #[derive(Clone, Copy, Debug)]
 pub enum Aim {
-    Target(Vec3),
-    Forward(Vec3),
+    Target(DVec3),
+    Forward(DVec3),
 }
 
+/// Positions are kept in double precision, as the script gave them; the
+/// frozen scene is in single precision relative to the eye, so a scene far
+/// from the origin renders as it would at the origin.
 #[derive(Clone, Debug)]
 pub struct Builder {
-    pub from: Vec3,
+    pub from: DVec3,
     pub aim: Aim,
     pub up: Vec3,
     /// Horizontal field of view in degrees.
     pub angle: f32,
     pub width: u32,
     pub height: u32,
-    pub vertices: Vec<Vec3>,
+    pub vertices: Vec<DVec3>,
     /// Placed positions of `mesh` files.
-    pub mesh_vertices: Vec<Vec3>,
+    pub mesh_vertices: Vec<DVec3>,
     pub normals: Vec<Vec3>,
     pub prims: Vec<Prim>,
     pub materials: Vec<Material>,
@@ -111,8 +114,8 @@ pub struct Builder {
 impl Default for Builder {
     fn default() -> Builder {
         Builder {
-            from: Vec3::ZERO,
-            aim: Aim::Target(Vec3::new(0.0, 0.0, -1.0)),
+            from: DVec3::ZERO,
+            aim: Aim::Target(DVec3::new(0.0, 0.0, -1.0)),
             up: Vec3::Y,
             angle: 45.0,
             width: 256,
@@ -145,6 +148,15 @@ fn finite(v: Vec3) -> Result<Vec3, SceneError> {
     if v.is_finite() { Ok(v) } else { Err(SceneError::NotFinite) }
 }
 
+/// A position: finite, and within single precision's range.
+fn position(p: DVec3) -> Result<DVec3, SceneError> {
+    if p.is_finite() && p.abs().max_element() <= f32::MAX as f64 {
+        Ok(p)
+    } else {
+        Err(SceneError::NotFinite)
+    }
+}
+
 pub(crate) fn check_nonzero(v: Vec3, what: &'static str) -> Result<Vec3, SceneError> {
     let v = finite(v)?;
     if v.length_squared() == 0.0 || !v.length_squared().is_normal() {
@@ -172,18 +184,19 @@ impl Builder {
 
     // -- Camera ---------------------------------------------------------------
 
-    pub fn camera_from(&mut self, p: Vec3) -> Result<(), SceneError> {
-        self.from = finite(p)?;
+    pub fn camera_from(&mut self, p: DVec3) -> Result<(), SceneError> {
+        self.from = position(p)?;
         Ok(())
     }
 
-    pub fn camera_target(&mut self, p: Vec3) -> Result<(), SceneError> {
-        self.aim = Aim::Target(finite(p)?);
+    pub fn camera_target(&mut self, p: DVec3) -> Result<(), SceneError> {
+        self.aim = Aim::Target(position(p)?);
         Ok(())
     }
 
-    pub fn camera_forward(&mut self, d: Vec3) -> Result<(), SceneError> {
-        self.aim = Aim::Forward(check_nonzero(d, "camera_forw direction")?);
+    pub fn camera_forward(&mut self, d: DVec3) -> Result<(), SceneError> {
+        check_nonzero(d.as_vec3(), "camera_forw direction")?;
+        self.aim = Aim::Forward(d);
         Ok(())
     }
 
@@ -235,7 +248,9 @@ impl Builder {
                 "camera_target is the same point as camera_from".into(),
             ));
         }
-        Camera::new(self.from, forward, self.up, self.angle, self.width, self.height)
+        // In the frozen scene the eye is the origin (see `shape`).
+        let forward = (forward / forward.abs().max_element()).as_vec3();
+        Camera::new(Vec3::ZERO, forward, self.up, self.angle, self.width, self.height)
             .ok_or(SceneError::UpParallel)
     }
 
@@ -250,11 +265,11 @@ impl Builder {
     }
 
     /// Adds a vertex; returns its index.
-    pub fn vertex(&mut self, p: Vec3) -> Result<usize, SceneError> {
+    pub fn vertex(&mut self, p: DVec3) -> Result<usize, SceneError> {
         if self.vertices.len() >= u32::MAX as usize - 1 {
             return Err(SceneError::Capacity { what: "vertices" });
         }
-        self.vertices.push(finite(p)?);
+        self.vertices.push(position(p)?);
         Ok(self.vertices.len() - 1)
     }
 
@@ -297,37 +312,51 @@ impl Builder {
         Ok(())
     }
 
-    /// The primitive `i` as a renderable shape, triangle vertices inline.
-    pub fn shape(&self, i: usize) -> Shape {
+    /// The primitive `i` as a renderable shape in single precision, placed
+    /// relative to `origin` (the eye): the subtraction is done in double
+    /// precision, so only the geometry's distance from the eye limits its
+    /// precision, never its distance from the world's origin.
+    pub fn shape(&self, i: usize, origin: DVec3) -> Shape {
+        let rel = |p: DVec3| (p - origin).as_vec3();
         match self.prims[i] {
             Prim::Tri { v, n, material } => {
-                let p = v.map(|k| self.vertices[k as usize]);
+                let p = v.map(|k| rel(self.vertices[k as usize]));
                 Shape::Triangle(Triangle { p, normals: n, material })
             }
             Prim::MeshTri { v, n, material } => {
-                let p = v.map(|k| self.mesh_vertices[k as usize]);
+                let p = v.map(|k| rel(self.mesh_vertices[k as usize]));
                 Shape::Triangle(Triangle { p, normals: n, material })
             }
-            Prim::Sphere { center, radius, material } => Shape::Sphere { center, radius, material },
+            Prim::Sphere { center, radius, material } => {
+                Shape::Sphere { center: rel(center), radius: radius as f32, material }
+            }
         }
     }
 
-    /// The bounding box of every primitive (empty when there are none).
-    pub fn bounds(&self) -> Aabb {
-        self.prims.iter().fold(Aabb::EMPTY, |b, prim| match *prim {
-            Prim::Tri { v, .. } => v.iter().fold(b, |b, &i| b.grow(self.vertices[i as usize])),
-            Prim::MeshTri { v, .. } => {
-                v.iter().fold(b, |b, &i| b.grow(self.mesh_vertices[i as usize]))
+    /// The bounding box of every primitive, in world coordinates, as
+    /// (min, max); `None` when there are none.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let mut b = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        let mut grow = |lo: DVec3, hi: DVec3| b = (b.0.min(lo), b.1.max(hi));
+        for prim in &self.prims {
+            match *prim {
+                Prim::Tri { v, .. } => v
+                    .iter()
+                    .for_each(|&i| grow(self.vertices[i as usize], self.vertices[i as usize])),
+                Prim::MeshTri { v, .. } => v.iter().for_each(|&i| {
+                    grow(self.mesh_vertices[i as usize], self.mesh_vertices[i as usize])
+                }),
+                Prim::Sphere { center, radius, .. } => {
+                    grow(center - DVec3::splat(radius), center + DVec3::splat(radius))
+                }
             }
-            Prim::Sphere { center, radius, material } => {
-                b.union(Shape::Sphere { center, radius, material }.bounds())
-            }
-        })
+        }
+        (b.0.x <= b.1.x).then_some(b)
     }
 
-    pub fn sphere(&mut self, center: Vec3, radius: f32) -> Result<(), SceneError> {
-        let center = finite(center)?;
-        if !(radius > 0.0 && radius.is_finite()) {
+    pub fn sphere(&mut self, center: DVec3, radius: f64) -> Result<(), SceneError> {
+        let center = position(center)?;
+        if !(radius > 0.0 && radius <= f32::MAX as f64) {
             return Err(SceneError::Invalid(format!(
                 "sphere radius must be positive, got {radius}"
             )));
@@ -343,11 +372,11 @@ impl Builder {
     pub fn add_mesh(
         &mut self,
         mesh: &MeshData,
-        scale: f32,
-        translate: Vec3,
+        scale: f64,
+        translate: DVec3,
         flat: bool,
     ) -> Result<usize, SceneError> {
-        let place = |p: Vec3| p * scale + translate;
+        let place = |p: Vec3| p.as_dvec3() * scale + translate;
         let n_v = mesh.positions.len();
         if let Some(bad) = mesh.tris.iter().flatten().find(|&&i| i as usize >= n_v) {
             return Err(SceneError::IndexOutOfRange {
@@ -362,8 +391,8 @@ impl Builder {
         if self.mesh_vertices.len() + n_v >= u32::MAX as usize {
             return Err(SceneError::Capacity { what: "mesh vertices" });
         }
-        let positions: Vec<Vec3> = mesh.positions.iter().map(|&p| place(p)).collect();
-        if positions.iter().any(|p| !p.is_finite()) {
+        let positions: Vec<DVec3> = mesh.positions.iter().map(|&p| place(p)).collect();
+        if positions.iter().any(|&p| position(p).is_err()) {
             return Err(SceneError::NotFinite);
         }
         // Normal indices into the scene's pool, per corner.
@@ -379,13 +408,13 @@ impl Builder {
                 });
             }
             // Mirror scaling flips normals; a uniform scale keeps directions.
-            let sign = scale.signum();
+            let sign = scale.signum() as f32;
             self.normals.extend(
                 mesh.normals.iter().map(|n| (*n * sign).try_normalize().unwrap_or(Vec3::Y)),
             );
             Some(nt.iter().map(|t| t.map(|i| base + i)).collect())
         } else {
-            let mut acc = vec![Vec3::ZERO; n_v];
+            let mut acc = vec![DVec3::ZERO; n_v];
             for t in &mesh.tris {
                 let n = (positions[t[1] as usize] - positions[t[0] as usize])
                     .cross(positions[t[2] as usize] - positions[t[0] as usize]);
@@ -393,7 +422,9 @@ impl Builder {
                     acc[i as usize] += n;
                 }
             }
-            self.normals.extend(acc.iter().map(|n| n.try_normalize().unwrap_or(Vec3::Y)));
+            self.normals.extend(
+                acc.iter().map(|n| n.try_normalize().map(DVec3::as_vec3).unwrap_or(Vec3::Y)),
+            );
             Some(mesh.tris.iter().map(|t| t.map(|i| base + i)).collect())
         };
         let vbase = self.mesh_vertices.len() as u32;
@@ -402,7 +433,7 @@ impl Builder {
         let mut added = 0;
         for (k, t) in mesh.tris.iter().enumerate() {
             let n = corner_normals.as_ref().map(|c| c[k]).unwrap_or([Triangle::FLAT; 3]);
-            let p = t.map(|i| positions[i as usize]);
+            let p = t.map(|i| (positions[i as usize] - positions[t[0] as usize]).as_vec3());
             if (Triangle { p, normals: n, material }).has_area() {
                 added += 1;
             }

@@ -1,5 +1,6 @@
 //! `Scene`: the frozen, render-ready scene (Send + Sync). `freeze` builds
-//! the BVH over every primitive; rendering only reads it.
+//! the BVH over every primitive; rendering only reads it. Its coordinates
+//! are single precision with the eye at the origin.
 
 use std::time::Instant;
 
@@ -31,7 +32,7 @@ impl Scene {
     pub fn freeze(b: &Builder) -> Result<Scene, SceneError> {
         let camera = b.camera()?;
         let start = Instant::now();
-        let bvh = Bvh::build_from(b.prims.len(), |i| b.shape(i));
+        let bvh = Bvh::build_from(b.prims.len(), |i| b.shape(i, b.from));
         let degenerate = bvh.degenerate;
         let build_seconds = start.elapsed().as_secs_f64();
         Ok(Scene {
@@ -39,7 +40,7 @@ impl Scene {
             bvh,
             materials: b.materials.clone(),
             normals: b.normals.clone(),
-            lights: b.lights.clone(),
+            lights: b.lights.iter().map(|l| l.relative_to(b.from)).collect(),
             ambient: b.ambient,
             background: b.background,
             trace_depth: b.trace_depth,

@@ -1,6 +1,8 @@
 //! Lights: parallel (infinitely far), point (1/r² falloff) and spot.
+//! Positions are double precision in the builder (world coordinates) and
+//! relative to the eye once frozen (`relative_to`).
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use super::builder::{SceneError, check_color, check_nonzero};
 
@@ -13,13 +15,13 @@ pub enum Light {
     },
     Point {
         color: Vec3,
-        pos: Vec3,
+        pos: DVec3,
     },
     /// Full strength within `inner` of the axis, fading linearly to zero at
     /// `outer` (both as cosines).
     Spot {
         color: Vec3,
-        pos: Vec3,
+        pos: DVec3,
         dir: Vec3,
         cos_inner: f32,
         cos_outer: f32,
@@ -34,13 +36,13 @@ impl Light {
         })
     }
 
-    pub fn point(color: Vec3, pos: Vec3) -> Result<Light, SceneError> {
+    pub fn point(color: Vec3, pos: DVec3) -> Result<Light, SceneError> {
         Ok(Light::Point { color: check_color(color)?, pos })
     }
 
     pub fn spot(
         color: Vec3,
-        pos: Vec3,
+        pos: DVec3,
         dir: Vec3,
         inner_deg: f32,
         outer_deg: f32,
@@ -65,12 +67,23 @@ impl Light {
     pub(crate) fn check(&self) -> Result<(), SceneError> {
         let ok = match self {
             Light::Parallel { color, dir } => color.is_finite() && dir.is_finite(),
-            Light::Point { color, pos } => color.is_finite() && pos.is_finite(),
+            Light::Point { color, pos } => color.is_finite() && in_range(*pos),
             Light::Spot { color, pos, dir, .. } => {
-                color.is_finite() && pos.is_finite() && dir.is_finite()
+                color.is_finite() && in_range(*pos) && dir.is_finite()
             }
         };
         if ok { Ok(()) } else { Err(SceneError::NotFinite) }
+    }
+
+    /// The light with its position moved to be relative to `origin`.
+    pub fn relative_to(self, origin: DVec3) -> Light {
+        match self {
+            Light::Parallel { .. } => self,
+            Light::Point { color, pos } => Light::Point { color, pos: pos - origin },
+            Light::Spot { color, pos, dir, cos_inner, cos_outer } => {
+                Light::Spot { color, pos: pos - origin, dir, cos_inner, cos_outer }
+            }
+        }
     }
 
     /// For a point `p`: the unit direction towards the light, the distance
@@ -79,13 +92,13 @@ impl Light {
         match *self {
             Light::Parallel { color, dir } => (-dir, f32::INFINITY, color),
             Light::Point { color, pos } => {
-                let d = pos - p;
+                let d = pos.as_vec3() - p;
                 let r2 = d.length_squared();
                 let r = r2.sqrt();
                 (d / r, r, color / r2)
             }
             Light::Spot { color, pos, dir, cos_inner, cos_outer } => {
-                let d = pos - p;
+                let d = pos.as_vec3() - p;
                 let r2 = d.length_squared();
                 let r = r2.sqrt();
                 let l = d / r;
@@ -95,6 +108,11 @@ impl Light {
             }
         }
     }
+}
+
+/// Finite and within single precision's range.
+fn in_range(p: DVec3) -> bool {
+    p.is_finite() && p.abs().max_element() <= f32::MAX as f64
 }
 
 /// 1 inside the inner cone, 0 outside the outer cone, linear in angle between.

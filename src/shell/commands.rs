@@ -8,7 +8,7 @@ use std::cell::RefCell;
 use std::rc::Rc;
 use std::time::Instant;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use crate::image::{Encoding, Format};
 use crate::interp::{Exception, Interp, Num, Value, check_args, format_double};
@@ -21,29 +21,59 @@ fn scene_err(e: SceneError) -> Exception {
     Exception::error(e.to_string())
 }
 
-fn finite(n: Num) -> Result<f32, Exception> {
-    let x = n.to_f64();
-    if !x.is_finite() {
-        return Err(Exception::error(format!(
-            "expected a finite number but got \"{}\"",
-            format_double(x)
-        )));
-    }
-    if x.abs() > f32::MAX as f64 {
-        return Err(Exception::error(format!("number {} is too large", format_double(x))));
-    }
-    Ok(x as f32)
+/// A numeric command's arguments, with the names its usage gives them, so
+/// every conversion error names the argument:
+/// `sphere: radius: expected integer but got "2.5"`.
+struct Args<'a> {
+    nums: &'a [Num],
+    name: &'a str,
+    usage: &'a str,
 }
 
-fn vec3(a: &[Num]) -> Result<Vec3, Exception> {
-    Ok(Vec3::new(finite(a[0])?, finite(a[1])?, finite(a[2])?))
-}
+impl Args<'_> {
+    fn err(&self, i: usize, msg: impl std::fmt::Display) -> Exception {
+        let arg = self.usage.split_whitespace().nth(i).unwrap_or("?");
+        Exception::error(format!("{}: {arg}: {msg}", self.name))
+    }
 
-fn int(n: Num) -> Result<i64, Exception> {
-    match n {
-        Num::Int(i) => Ok(i),
-        Num::Double(d) => {
-            Err(Exception::error(format!("expected integer but got \"{}\"", format_double(d))))
+    /// Argument `i` as a finite double.
+    fn f64(&self, i: usize) -> Result<f64, Exception> {
+        let x = self.nums[i].to_f64();
+        if !x.is_finite() {
+            return Err(
+                self.err(i, format!("expected a finite number but got \"{}\"", format_double(x)))
+            );
+        }
+        if x.abs() > f32::MAX as f64 {
+            return Err(self.err(i, format!("number {} is too large", format_double(x))));
+        }
+        Ok(x)
+    }
+
+    /// Argument `i` as a finite single.
+    fn f32(&self, i: usize) -> Result<f32, Exception> {
+        Ok(self.f64(i)? as f32)
+    }
+
+    /// Arguments `i..i+3` as a position (double precision).
+    fn pos(&self, i: usize) -> Result<DVec3, Exception> {
+        Ok(DVec3::new(self.f64(i)?, self.f64(i + 1)?, self.f64(i + 2)?))
+    }
+
+    /// Arguments `i..i+3` as a direction or colour.
+    fn vec3(&self, i: usize) -> Result<Vec3, Exception> {
+        Ok(Vec3::new(self.f32(i)?, self.f32(i + 1)?, self.f32(i + 2)?))
+    }
+
+    /// Argument `i` as an integer: any number syntax with an integral
+    /// value (`5`, `5.0`, `1e3`), as C `printf` and converters write them.
+    fn int(&self, i: usize) -> Result<i64, Exception> {
+        match self.nums[i] {
+            Num::Int(n) => Ok(n),
+            Num::Double(d) if d.fract() == 0.0 && d.abs() < 9.0e18 => Ok(d as i64),
+            Num::Double(d) => {
+                Err(self.err(i, format!("expected integer but got \"{}\"", format_double(d))))
+            }
         }
     }
 }
@@ -57,18 +87,21 @@ fn numeric(
     name: &str,
     usage: &str,
     summary: &str,
-    f: impl Fn(&mut Builder, &[Num]) -> Result<Option<Num>, Exception> + 'static,
+    f: impl Fn(&mut Builder, &Args) -> Result<Option<Num>, Exception> + 'static,
 ) {
     let arity = usage.split_whitespace().count();
     let s = scene.clone();
-    interp.register_numeric(name, arity, usage, summary, move |_, a| f(&mut s.borrow_mut(), a));
+    let (n, u) = (name.to_string(), usage.to_string());
+    interp.register_numeric(name, arity, usage, summary, move |_, nums| {
+        f(&mut s.borrow_mut(), &Args { nums, name: &n, usage: &u })
+    });
 }
 
 /// Registers the scene commands, sharing one builder and the shell state.
 pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState>>) {
     let e = scene_err;
     numeric(interp, &scene, "camera_from", "x y z", "where the camera is", move |b, a| {
-        b.camera_from(vec3(a)?).map_err(e)?;
+        b.camera_from(a.pos(0)?).map_err(e)?;
         Ok(None)
     });
     numeric(
@@ -78,7 +111,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "x y z",
         "the point the camera looks at",
         move |b, a| {
-            b.camera_target(vec3(a)?).map_err(e)?;
+            b.camera_target(a.pos(0)?).map_err(e)?;
             Ok(None)
         },
     );
@@ -89,12 +122,12 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "x y z",
         "the direction the camera looks along",
         move |b, a| {
-            b.camera_forward(vec3(a)?).map_err(e)?;
+            b.camera_forward(a.pos(0)?).map_err(e)?;
             Ok(None)
         },
     );
     numeric(interp, &scene, "camera_up", "x y z", "the camera's up direction", move |b, a| {
-        b.camera_up(vec3(a)?).map_err(e)?;
+        b.camera_up(a.vec3(0)?).map_err(e)?;
         Ok(None)
     });
     numeric(
@@ -104,7 +137,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "theta",
         "field of view in degrees, left edge to right edge",
         move |b, a| {
-            b.camera_angle(finite(a[0])?).map_err(e)?;
+            b.camera_angle(a.f32(0)?).map_err(e)?;
             Ok(None)
         },
     );
@@ -115,7 +148,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "width height",
         "image size in pixels",
         move |b, a| {
-            b.camera_resolution(int(a[0])?, int(a[1])?).map_err(e)?;
+            b.camera_resolution(a.int(0)?, a.int(1)?).map_err(e)?;
             Ok(None)
         },
     );
@@ -126,7 +159,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "n",
         "capacity hint for the vertex pool",
         move |b, a| {
-            b.reserve_vertices(int(a[0])?);
+            b.reserve_vertices(a.int(0)?);
             Ok(None)
         },
     );
@@ -137,15 +170,15 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "n",
         "capacity hint for the normal pool",
         move |b, a| {
-            b.reserve_normals(int(a[0])?);
+            b.reserve_normals(a.int(0)?);
             Ok(None)
         },
     );
     numeric(interp, &scene, "vertex", "x y z", "add a vertex; returns its index", move |b, a| {
-        Ok(Some(Num::Int(b.vertex(vec3(a)?).map_err(e)? as i64)))
+        Ok(Some(Num::Int(b.vertex(a.pos(0)?).map_err(e)? as i64)))
     });
     numeric(interp, &scene, "normal", "x y z", "add a normal; returns its index", move |b, a| {
-        Ok(Some(Num::Int(b.normal(vec3(a)?).map_err(e)? as i64)))
+        Ok(Some(Num::Int(b.normal(a.vec3(0)?).map_err(e)? as i64)))
     });
     numeric(
         interp,
@@ -154,7 +187,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "v1 v2 v3",
         "add a flat triangle (vertex indices, counter-clockwise)",
         move |b, a| {
-            b.tri([int(a[0])?, int(a[1])?, int(a[2])?]).map_err(e)?;
+            b.tri([a.int(0)?, a.int(1)?, a.int(2)?]).map_err(e)?;
             Ok(None)
         },
     );
@@ -167,14 +200,14 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         move |b, a| {
             let mut vn = [(0, 0); 3];
             for (k, slot) in vn.iter_mut().enumerate() {
-                *slot = (int(a[2 * k])?, int(a[2 * k + 1])?);
+                *slot = (a.int(2 * k)?, a.int(2 * k + 1)?);
             }
             b.ntri(vn).map_err(e)?;
             Ok(None)
         },
     );
     numeric(interp, &scene, "sphere", "x y z radius", "add a sphere", move |b, a| {
-        b.sphere(vec3(a)?, finite(a[3])?).map_err(e)?;
+        b.sphere(a.pos(0)?, a.f64(3)?).map_err(e)?;
         Ok(None)
     });
     numeric(
@@ -184,7 +217,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "r g b",
         "the colour of rays that hit nothing",
         move |b, a| {
-            b.set_background(vec3(a)?).map_err(e)?;
+            b.set_background(a.vec3(0)?).map_err(e)?;
             Ok(None)
         },
     );
@@ -195,7 +228,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "r g b",
         "the ambient light (a later call replaces it)",
         move |b, a| {
-            b.set_ambient(vec3(a)?).map_err(e)?;
+            b.set_ambient(a.vec3(0)?).map_err(e)?;
             Ok(None)
         },
     );
@@ -206,7 +239,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "r g b x y z",
         "a light infinitely far away, travelling along (x, y, z)",
         move |b, a| {
-            b.add_light(Light::parallel(vec3(a)?, vec3(&a[3..])?).map_err(e)?).map_err(e)?;
+            b.add_light(Light::parallel(a.vec3(0)?, a.vec3(3)?).map_err(e)?).map_err(e)?;
             Ok(None)
         },
     );
@@ -217,7 +250,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "r g b x y z",
         "a light at (x, y, z), falling off as 1/r^2",
         move |b, a| {
-            b.add_light(Light::point(vec3(a)?, vec3(&a[3..])?).map_err(e)?).map_err(e)?;
+            b.add_light(Light::point(a.vec3(0)?, a.pos(3)?).map_err(e)?).map_err(e)?;
             Ok(None)
         },
     );
@@ -228,14 +261,8 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "r g b px py pz nx ny nz angle1 angle2",
         "a spot light at p shining along n: full within angle1, fading to nothing at angle2 (degrees)",
         move |b, a| {
-            let l = Light::spot(
-                vec3(a)?,
-                vec3(&a[3..])?,
-                vec3(&a[6..])?,
-                finite(a[9])?,
-                finite(a[10])?,
-            )
-            .map_err(e)?;
+            let l =
+                Light::spot(a.vec3(0)?, a.pos(3)?, a.vec3(6)?, a.f32(9)?, a.f32(10)?).map_err(e)?;
             b.add_light(l).map_err(e)?;
             Ok(None)
         },
@@ -248,20 +275,20 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "the material of the objects that follow",
         move |b, a| {
             let m = Material {
-                color: vec3(a)?,
-                ka: finite(a[3])?,
-                kd: finite(a[4])?,
-                ks: finite(a[5])?,
-                ns: finite(a[6])?,
-                t: finite(a[7])?,
-                ior: finite(a[8])?,
+                color: a.vec3(0)?,
+                ka: a.f32(3)?,
+                kd: a.f32(4)?,
+                ks: a.f32(5)?,
+                ns: a.f32(6)?,
+                t: a.f32(7)?,
+                ior: a.f32(8)?,
             };
             b.set_material(m).map_err(e)?;
             Ok(None)
         },
     );
     numeric(interp, &scene, "trace_depth", "n", "the most bounces a ray makes", move |b, a| {
-        b.set_trace_depth(int(a[0])?).map_err(e)?;
+        b.set_trace_depth(a.int(0)?).map_err(e)?;
         Ok(None)
     });
     let s = scene.clone();
@@ -282,12 +309,11 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "the bounding box of all geometry: xmin ymin zmin xmax ymax zmax",
         move |_, argv| {
             check_args(argv, 1, 1, "")?;
-            let b = s.borrow().bounds();
-            if b.is_empty() {
+            let Some((lo, hi)) = s.borrow().bounds() else {
                 return Ok(Value::empty());
-            }
-            let v = [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z];
-            Ok(Value::from_list(v.iter().map(|&x| Value::from_f64(x as f64)).collect()))
+            };
+            let v = [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z];
+            Ok(Value::from_list(v.iter().map(|&x| Value::from_f64(x)).collect()))
         },
     );
     let s = scene.clone();
@@ -353,24 +379,34 @@ fn mesh_command(b: &mut Builder, argv: &[Value]) -> Result<Value, Exception> {
     if argv.len() < 2 {
         return Err(Exception::wrong_args(usage));
     }
-    let (mut scale, mut translate, mut flat) = (1.0f32, Vec3::ZERO, false);
-    let num = |v: &Value| -> Result<f32, Exception> {
-        finite(v.as_num().ok_or_else(|| {
-            Exception::error(format!("expected number but got \"{}\"", v.as_str()))
-        })?)
+    let (mut scale, mut translate, mut flat) = (1.0f64, DVec3::ZERO, false);
+    let num = |v: &Value, what: &str| -> Result<f64, Exception> {
+        let bad = |msg: String| Exception::error(format!("mesh: {what}: {msg}"));
+        let x = v
+            .as_num()
+            .ok_or_else(|| bad(format!("expected number but got \"{}\"", v.as_str())))?
+            .to_f64();
+        if !x.is_finite() || x.abs() > f32::MAX as f64 {
+            return Err(bad(format!("expected a finite number but got \"{}\"", v.as_str())));
+        }
+        Ok(x)
     };
     let mut i = 2;
     while i < argv.len() {
         match argv[i].as_str() {
             "-scale" if i + 1 < argv.len() => {
-                scale = num(&argv[i + 1])?;
+                scale = num(&argv[i + 1], "-scale")?;
                 if scale == 0.0 {
                     return Err(Exception::error("mesh -scale must not be zero"));
                 }
                 i += 2;
             }
             "-translate" if i + 3 < argv.len() => {
-                translate = Vec3::new(num(&argv[i + 1])?, num(&argv[i + 2])?, num(&argv[i + 3])?);
+                translate = DVec3::new(
+                    num(&argv[i + 1], "-translate x")?,
+                    num(&argv[i + 2], "-translate y")?,
+                    num(&argv[i + 3], "-translate z")?,
+                );
                 i += 4;
             }
             "-flat" => {

@@ -39,9 +39,19 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         1,
         "wrong # args: should be \"camera_from x y z\"",
     ),
-    ("camera_from word", "camera_from x 0 0", 1, "expected number but got \"x\""),
-    ("camera_from nan", "camera_from nan 0 0", 1, "expected a finite number but got \"NaN\""),
-    ("camera_target inf", "camera_target 0 0 inf", 1, "expected a finite number but got \"Inf\""),
+    ("camera_from word", "camera_from x 0 0", 1, "camera_from: x: expected number but got \"x\""),
+    (
+        "camera_from nan",
+        "camera_from nan 0 0",
+        1,
+        "camera_from: x: expected a finite number but got \"NaN\"",
+    ),
+    (
+        "camera_target inf",
+        "camera_target 0 0 inf",
+        1,
+        "camera_target: z: expected a finite number but got \"Inf\"",
+    ),
     (
         "camera_target missing",
         "camera_target 0 0",
@@ -80,7 +90,12 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         1,
         "camera angle must be between 0 and 180 degrees, got 180",
     ),
-    ("camera_angle nan", "camera_angle nan", 1, "expected a finite number but got \"NaN\""),
+    (
+        "camera_angle nan",
+        "camera_angle nan",
+        1,
+        "camera_angle: theta: expected a finite number but got \"NaN\"",
+    ),
     (
         "camera_resolution zero",
         "camera_resolution 0 10",
@@ -103,7 +118,7 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         "camera_resolution fraction",
         "camera_resolution 10.5 10",
         1,
-        "expected integer but got \"10.5\"",
+        "camera_resolution: width: expected integer but got \"10.5\"",
     ),
     (
         "camera_resolution negative",
@@ -113,13 +128,18 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
     ),
     ("vertex missing", "vertex 1 2", 1, "wrong # args: should be \"vertex x y z\""),
     ("vertex extra", "vertex 1 2 3 4", 1, "wrong # args: should be \"vertex x y z\""),
-    ("vertex words", "vertex a b c", 1, "expected number but got \"a\""),
-    ("vertex nan", "vertex nan 0 0", 1, "expected a finite number but got \"NaN\""),
-    ("vertex inf", "vertex 0 inf 0", 1, "expected a finite number but got \"Inf\""),
-    ("vertex overflow", "vertex 0 0 1e400", 1, "expected a finite number but got \"Inf\""),
+    ("vertex words", "vertex a b c", 1, "vertex: x: expected number but got \"a\""),
+    ("vertex nan", "vertex nan 0 0", 1, "vertex: x: expected a finite number but got \"NaN\""),
+    ("vertex inf", "vertex 0 inf 0", 1, "vertex: y: expected a finite number but got \"Inf\""),
+    (
+        "vertex overflow",
+        "vertex 0 0 1e400",
+        1,
+        "vertex: z: expected a finite number but got \"Inf\"",
+    ),
     ("normal zero", "normal 0 0 0", 1, "a normal must not be the zero vector"),
     ("normal missing", "normal 1 2", 1, "wrong # args: should be \"normal x y z\""),
-    ("normal -inf", "normal -inf 0 0", 1, "expected a finite number but got \"-Inf\""),
+    ("normal -inf", "normal -inf 0 0", 1, "normal: x: expected a finite number but got \"-Inf\""),
     (
         "tri empty pool",
         "tri 0 1 2",
@@ -138,13 +158,13 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         1,
         "vertex index -1 out of range: the vertex pool has 1 entries",
     ),
-    ("tri fraction", "tri 0.5 1 2", 1, "expected integer but got \"0.5\""),
+    ("tri fraction", "tri 0.5 1 2", 1, "tri: v1: expected integer but got \"0.5\""),
     ("tri missing", "tri 1 2", 1, "wrong # args: should be \"tri v1 v2 v3\""),
     (
         "tri huge index",
         "vertex 0 0 0\ntri 0 0 99999999999999999999",
         1,
-        "expected number but got \"99999999999999999999\"",
+        "tri: v3: expected number but got \"99999999999999999999\"",
     ),
     ("ntri missing", "ntri 0 0 0 0 0", 1, "wrong # args: should be \"ntri v1 n1 v2 n2 v3 n3\""),
     (
@@ -155,15 +175,35 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
     ),
     ("sphere missing", "sphere 1 2 3", 1, "wrong # args: should be \"sphere x y z radius\""),
     ("sphere extra", "sphere 1 2 3 4 5", 1, "wrong # args: should be \"sphere x y z radius\""),
-    ("sphere word", "sphere a 0 0 1", 1, "expected number but got \"a\""),
+    ("sphere word", "sphere a 0 0 1", 1, "sphere: x: expected number but got \"a\""),
     ("sphere negative radius", "sphere 0 0 0 -1", 1, "sphere radius must be positive, got -1"),
     ("sphere zero radius", "sphere 0 0 0 0", 1, "sphere radius must be positive, got 0"),
-    ("sphere nan radius", "sphere 0 0 0 nan", 1, "expected a finite number but got \"NaN\""),
-    ("sphere inf radius", "sphere 0 0 0 inf", 1, "expected a finite number but got \"Inf\""),
+    (
+        "sphere nan radius",
+        "sphere 0 0 0 nan",
+        1,
+        "sphere: radius: expected a finite number but got \"NaN\"",
+    ),
+    (
+        "sphere inf radius",
+        "sphere 0 0 0 inf",
+        1,
+        "sphere: radius: expected a finite number but got \"Inf\"",
+    ),
     ("background negative", "background -1 0 0", 1, "colour components must not be negative"),
     ("background missing", "background 1 1", 1, "wrong # args: should be \"background r g b\""),
-    ("background nan", "background nan 0 0", 1, "expected a finite number but got \"NaN\""),
-    ("ambient_light word", "ambient_light 1 1 x", 1, "expected number but got \"x\""),
+    (
+        "background nan",
+        "background nan 0 0",
+        1,
+        "background: r: expected a finite number but got \"NaN\"",
+    ),
+    (
+        "ambient_light word",
+        "ambient_light 1 1 x",
+        1,
+        "ambient_light: b: expected number but got \"x\"",
+    ),
     (
         "parallel_light zero direction",
         "parallel_light 1 1 1 0 0 0",
@@ -176,7 +216,12 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         1,
         "wrong # args: should be \"parallel_light r g b x y z\"",
     ),
-    ("point_light nan", "point_light 1 1 1 0 0 nan", 1, "expected a finite number but got \"NaN\""),
+    (
+        "point_light nan",
+        "point_light 1 1 1 0 0 nan",
+        1,
+        "point_light: z: expected a finite number but got \"NaN\"",
+    ),
     (
         "spot_light angles reversed",
         "spot_light 1 1 1 0 0 0 0 -1 0 30 20",
@@ -233,7 +278,12 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
     ),
     ("trace_depth huge", "trace_depth 1000", 1, "trace depth must be between 0 and 64, got 1000"),
     ("trace_depth negative", "trace_depth -1", 1, "trace depth must be between 0 and 64, got -1"),
-    ("trace_depth fraction", "trace_depth 2.5", 1, "expected integer but got \"2.5\""),
+    (
+        "trace_depth fraction",
+        "trace_depth 2.5",
+        1,
+        "trace_depth: n: expected integer but got \"2.5\"",
+    ),
     (
         "render unknown format",
         "render x.jpg",
@@ -448,8 +498,8 @@ fn the_repl_survives_every_bad_input() {
             // Variables, procs and the scene are still there.
             assert_eq!(eval_line(i, "set keep"), Reply::Result("42".into()), "after {what}");
             assert_eq!(eval_line(i, "twice 21"), Reply::Result("42".into()), "after {what}");
-            let b = s.scene.borrow().bounds();
-            assert!(b.min.z <= -6.0 && b.max.z >= -4.0, "after {what}: the sphere is gone");
+            let (lo, hi) = s.scene.borrow().bounds().expect("the sphere is gone");
+            assert!(lo.z <= -6.0 && hi.z >= -4.0, "after {what}: the sphere is gone");
         }
         // And it still renders.
         let out = p("after.ppm");

@@ -6,6 +6,7 @@ mod farm;
 mod interrupt;
 mod lang;
 mod mesh;
+mod pov;
 mod render;
 mod tidy;
 mod util;

@@ -24,12 +24,10 @@ fn random_scene(n: usize, seed: &mut u64) -> Vec<Shape> {
         .collect()
 }
 
+/// The closest hit's distance by testing every shape (with the same rule
+/// for ties).
 fn brute(shapes: &[Shape], ray: &Ray) -> Option<f32> {
-    let pre = RayPre::new(ray.dir);
-    shapes
-        .iter()
-        .filter_map(|s| s.intersect(ray, &pre, 0.0, f32::INFINITY).map(|h| h.0))
-        .reduce(f32::min)
+    crate::geometry::intersect_brute(shapes, ray, 0.0, f32::INFINITY).map(|h| h.t)
 }
 
 #[test]
@@ -177,8 +175,9 @@ fn sphere_blocks_match_the_scalar_test() {
             })
             .collect();
         let mut packed = Vec::new();
-        let mut recs = vec![Rec { at: 0, normals: [0; 3], material: 0 }; n];
-        Block::pack(&shapes, 0, &mut packed, &mut recs);
+        let mut recs = vec![Rec::default(); n];
+        let tagged: Vec<(u32, Shape)> = (0..n as u32).zip(shapes.iter().copied()).collect();
+        Block::pack(&tagged, 0, &mut packed, &mut recs);
         let o = match round % 4 {
             0 => match shapes[0] {
                 Shape::Sphere { center, radius, .. } => center + Vec3::X * radius,
