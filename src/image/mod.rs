@@ -90,7 +90,7 @@ impl Image {
         let rgb = self.to_rgb8(enc);
         match format {
             Format::Ppm => write_ppm_placed(w, self.width, self.height, &rgb, at),
-            Format::Png => write_png_placed(w, self.width, self.height, &rgb, at),
+            Format::Png => write_png_placed(w, self.width, self.height, &rgb, enc, at),
         }
     }
 }
@@ -143,8 +143,28 @@ fn write_ppm_placed(
     w.flush()
 }
 
-pub fn write_png(w: impl Write, width: u32, height: u32, rgb: &[u8]) -> io::Result<()> {
-    write_png_placed(w, width, height, rgb, None)
+pub fn write_png(
+    w: impl Write,
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+    enc: Encoding,
+) -> io::Result<()> {
+    write_png_placed(w, width, height, rgb, enc, None)
+}
+
+/// Says in a PNG how its values are encoded, so viewers show it right:
+/// the sRGB chunk (and the gAMA it implies) for sRGB output, gAMA 1.0
+/// for linear values.
+pub fn tag_png<W: Write>(enc: &mut png::Encoder<'_, W>, encoding: Encoding) {
+    match encoding {
+        Encoding::Srgb => {
+            enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+            // The gAMA an sRGB chunk implies, for decoders that know only it.
+            enc.set_source_gamma(png::ScaledFloat::from_scaled(45455));
+        }
+        Encoding::Linear => enc.set_source_gamma(png::ScaledFloat::new(1.0)),
+    }
 }
 
 fn write_png_placed(
@@ -152,11 +172,13 @@ fn write_png_placed(
     width: u32,
     height: u32,
     rgb: &[u8],
+    encoding: Encoding,
     at: Option<Placement>,
 ) -> io::Result<()> {
     let mut enc = png::Encoder::new(w, width, height);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
+    tag_png(&mut enc, encoding);
     if let Some(p) = at {
         enc.add_text_chunk(PLACEMENT_KEY.into(), p.text()).map_err(io::Error::other)?;
     }
@@ -172,6 +194,9 @@ pub struct Rgb8 {
     pub height: u32,
     pub rgb: Vec<u8>,
     pub placement: Option<Placement>,
+    /// How a PNG says its values are encoded (an sRGB chunk, or gAMA
+    /// 1.0); `None` for a PPM or an untagged PNG.
+    pub encoding: Option<Encoding>,
 }
 
 /// Reads a PPM (P6, maxval 255) or an 8-bit RGB PNG, as written here.
@@ -185,7 +210,7 @@ pub fn read_rgb8(data: &[u8]) -> Result<Rgb8, String> {
             .take(3)
             .find_map(|l| l.strip_prefix("# ")?.strip_prefix(PLACEMENT_KEY))
             .and_then(Placement::parse);
-        return Ok(Rgb8 { width, height, rgb, placement });
+        return Ok(Rgb8 { width, height, rgb, placement, encoding: None });
     }
     let mut decoder = png::Decoder::new(io::Cursor::new(data));
     decoder.set_transformations(png::Transformations::EXPAND);
@@ -197,13 +222,18 @@ pub fn read_rgb8(data: &[u8]) -> Result<Rgb8, String> {
         .find(|t| t.keyword == PLACEMENT_KEY)
         .and_then(|t| Placement::parse(&t.text));
     let (width, height) = (reader.info().width, reader.info().height);
+    let encoding = match (reader.info().srgb, reader.info().gama_chunk) {
+        (Some(_), _) => Some(Encoding::Srgb),
+        (None, Some(g)) if g == png::ScaledFloat::new(1.0) => Some(Encoding::Linear),
+        _ => None,
+    };
     let mut buf = vec![0; reader.output_buffer_size().ok_or("PNG too large")?];
     let frame = reader.next_frame(&mut buf).map_err(|e| format!("bad PNG: {e}"))?;
     if frame.color_type != png::ColorType::Rgb || frame.bit_depth != png::BitDepth::Eight {
         return Err("not an 8-bit RGB PNG".into());
     }
     buf.truncate(frame.buffer_size());
-    Ok(Rgb8 { width, height, rgb: buf, placement })
+    Ok(Rgb8 { width, height, rgb: buf, placement, encoding })
 }
 
 /// Reads a binary PPM (P6, maxval 255): (width, height, rgb bytes).

@@ -331,7 +331,6 @@ fn terminator(p: Vec3, v: [Vec3; 3], n: [Vec3; 3], b: [f32; 3]) -> Vec3 {
     lifted
 }
 
-#[allow(clippy::too_many_arguments)]
 fn shade(
     scene: &Scene,
     ray: &Ray,
@@ -447,5 +446,63 @@ mod tests {
         assert!(refract(d, Vec3::Y, 1.5).is_none());
         // Head-on passes straight through.
         assert!((refract(Vec3::NEG_Y, Vec3::Y, 0.7).unwrap() - Vec3::NEG_Y).length() < 1e-6);
+    }
+
+    /// The sine of the angle between unit `d` and the normal line `n`.
+    fn sin_to(d: Vec3, n: Vec3) -> f32 {
+        d.cross(n).length()
+    }
+
+    #[test]
+    fn nested_media_bend_by_the_indices_on_both_sides() {
+        // A ray through a water core (material 2, ior 1.33) inside a glass
+        // ball (material 1, ior 1.5), crossing four interfaces whose normals
+        // all point along +y, at 30 degrees: at each, n1 sin(t1) = n2 sin(t2)
+        // with the indices of the media on both sides.
+        let (glass, water) = ((1, 1.5f32), (2, 1.33f32));
+        let mut media = Media::default();
+        let mut d = Vec3::new(30f32.to_radians().sin(), -30f32.to_radians().cos(), 0.0);
+        let steps: [(bool, (u32, f32), f32, f32); 4] = [
+            (true, glass, 1.0, 1.5),
+            (true, water, 1.5, 1.33),
+            (false, water, 1.33, 1.5),
+            (false, glass, 1.5, 1.0),
+        ];
+        for (i, (entering, (material, ior), n1, n2)) in steps.into_iter().enumerate() {
+            let (from, beyond) = if entering {
+                (media.ior(), media.enter(material, ior))
+            } else {
+                (ior, media.leave(material))
+            };
+            assert_eq!((from, beyond.ior()), (n1, n2), "interface {i}");
+            let t = refract(d, Vec3::Y, from / beyond.ior()).expect("no total reflection here");
+            let (s1, s2) = (sin_to(d, Vec3::Y), sin_to(t, Vec3::Y));
+            assert!((n1 * s1 - n2 * s2).abs() < 1e-5, "interface {i}: {n1}*{s1} != {n2}*{s2}");
+            media = beyond;
+            d = t;
+        }
+        // Back in air, travelling as it came in.
+        assert_eq!(media.ior(), 1.0);
+        assert!((d - Vec3::new(0.5, -(0.75f32.sqrt()), 0.0)).length() < 1e-5);
+        // An air bubble in glass: leaving glass into the bubble goes 1.5 -> 1,
+        // past the critical angle (41.8 degrees) totally reflected.
+        let inside = Media::default().enter(1, 1.5);
+        let bubble = inside.enter(3, 1.0);
+        assert_eq!(inside.ior() / bubble.ior(), 1.5);
+        let steep = Vec3::new(50f32.to_radians().sin(), -50f32.to_radians().cos(), 0.0);
+        assert!(refract(steep, Vec3::Y, inside.ior() / bubble.ior()).is_none());
+        // Leaving what the ray was never known to be in changes nothing.
+        assert_eq!(inside.leave(7).ior(), 1.5);
+    }
+
+    #[test]
+    fn media_forget_the_outermost_when_full() {
+        let mut m = Media::default();
+        for k in 0..(MAX_MEDIA as u32 + 3) {
+            m = m.enter(k, 1.0 + k as f32);
+        }
+        assert_eq!(m.ior(), 1.0 + (MAX_MEDIA as f32 + 2.0));
+        let top = MAX_MEDIA as u32 + 2;
+        assert_eq!(m.leave(top).ior(), 1.0 + (top - 1) as f32);
     }
 }

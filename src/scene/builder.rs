@@ -17,11 +17,20 @@ pub const MAX_TRACE_DEPTH: u32 = 64;
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum SceneError {
-    IndexOutOfRange { pool: &'static str, index: i64, size: usize },
+    IndexOutOfRange {
+        pool: &'static str,
+        index: i64,
+        size: usize,
+    },
     NotFinite,
-    Capacity { what: &'static str },
-    ZeroVector { what: &'static str },
-    UpParallel,
+    Capacity {
+        what: &'static str,
+    },
+    ZeroVector {
+        what: &'static str,
+    },
+    /// `camera_up` (the vector) along the view direction (the other).
+    UpParallel(Vec3, Vec3),
     Invalid(String),
 }
 
@@ -34,8 +43,14 @@ impl std::fmt::Display for SceneError {
             SceneError::NotFinite => write!(f, "numbers must be finite (not NaN or infinite)"),
             SceneError::Capacity { what } => write!(f, "too many {what}: the limit is 2^32"),
             SceneError::ZeroVector { what } => write!(f, "{what} must not be the zero vector"),
-            SceneError::UpParallel => {
-                write!(f, "camera up vector is parallel to the view direction")
+            SceneError::UpParallel(up, forward) => {
+                let v = |v: &Vec3| format!("{} {} {}", v.x, v.y, v.z);
+                write!(
+                    f,
+                    "camera up vector is parallel to the view direction (camera_up {}, looking along {})",
+                    v(up),
+                    v(forward)
+                )
             }
             SceneError::Invalid(s) => f.write_str(s),
         }
@@ -251,7 +266,7 @@ impl Builder {
         // In the frozen scene the eye is the origin (see `shape`).
         let forward = (forward / forward.abs().max_element()).as_vec3();
         Camera::new(Vec3::ZERO, forward, self.up, self.angle, self.width, self.height)
-            .ok_or(SceneError::UpParallel)
+            .ok_or(SceneError::UpParallel(self.up, forward.normalize()))
     }
 
     // -- Geometry -------------------------------------------------------------

@@ -37,9 +37,11 @@ impl Material {
                 )));
             }
         }
-        if !(self.ior > 0.0 && self.ior.is_finite()) {
+        // Opaque scenes (SPD conversions) write an ior of 0: it is never
+        // used when nothing is transmitted, so only glass must have one.
+        if !self.ior.is_finite() || self.ior < 0.0 || (self.t > 0.0 && self.ior == 0.0) {
             return Err(SceneError::Invalid(format!(
-                "index of refraction must be positive, got {}",
+                "index of refraction must be positive (or 0 when T is 0), got {}",
                 self.ior
             )));
         }

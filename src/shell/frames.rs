@@ -116,7 +116,9 @@ pub fn run_batch(cli: &Cli) -> i32 {
         let _ = interp.set_var("frame", Value::from_int(f));
         let mut r = interp.eval_source(&src, Some(&script_name));
         if r.is_ok() {
-            r = interp.invoke(&[Value::from("render"), Value::from(out.as_str())]);
+            r = interp
+                .invoke(&[Value::from("render"), Value::from(out.as_str())])
+                .map_err(|e| super::at_end_of(e, &script_name, super::last_line(src.as_bytes())));
         }
         std::mem::swap(&mut session.state.borrow_mut().feedback, &mut fb);
         let code = super::finish(&mut interp, r);
@@ -143,11 +145,13 @@ pub fn merge(out: &Path, parts: &[PathBuf]) -> Result<(), (i32, String)> {
         fail(format!("unknown image format for \"{out_name}\": the name must end in .ppm or .png"))
     })?;
     let mut full: Option<(u32, u32, Vec<u8>, Vec<bool>)> = None;
+    let mut encoding = None;
     for part in parts {
         let name = part.to_string_lossy();
         let bytes = std::fs::read(part)
             .map_err(|e| fail(format!("couldn't read \"{name}\": {}", super::io_reason(&e))))?;
         let img = read_rgb8(&bytes).map_err(|e| fail(format!("\"{name}\": {e}")))?;
+        encoding = encoding.or(img.encoding);
         let p = img.placement.ok_or_else(|| {
             fail(format!("\"{name}\" is not a cropped render (it has no rayshell-crop placement)"))
         })?;
@@ -197,7 +201,13 @@ pub fn merge(out: &Path, parts: &[PathBuf]) -> Result<(), (i32, String)> {
     let mut file = super::AtomicFile::create(&out_name).map_err(io)?;
     match format {
         Format::Ppm => crate::image::write_ppm(file.writer(), w, h, &rgb),
-        Format::Png => crate::image::write_png(file.writer(), w, h, &rgb),
+        Format::Png => crate::image::write_png(
+            file.writer(),
+            w,
+            h,
+            &rgb,
+            encoding.unwrap_or(crate::image::Encoding::Linear),
+        ),
     }
     .map_err(io)?;
     file.commit().map_err(io)
@@ -239,6 +249,8 @@ pub fn movie(out: &Path, frames: &[PathBuf], fps: u16) -> Result<(), (i32, Strin
     let mut enc = png::Encoder::new(file.writer(), w, h);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
+    let encoding = pictures[0].encoding.unwrap_or(crate::image::Encoding::Linear);
+    crate::image::tag_png(&mut enc, encoding);
     let png_err = |e: png::EncodingError| io(std::io::Error::other(e));
     enc.set_animated(pictures.len() as u32, 0).map_err(png_err)?;
     enc.set_frame_delay(1, fps.max(1)).map_err(png_err)?;

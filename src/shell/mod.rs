@@ -265,6 +265,23 @@ pub fn run_main_script(interp: &mut Interp, src: &str, file: Option<&str>) -> i3
     finish(interp, r)
 }
 
+/// The number of the last line of a script (where the render that follows
+/// it is said to happen).
+pub(crate) fn last_line(src: &[u8]) -> u32 {
+    let newlines = src.iter().filter(|&&b| b == b'\n').count();
+    let ends_open = !src.is_empty() && !src.ends_with(b"\n");
+    (newlines + ends_open as usize).max(1) as u32
+}
+
+/// An error of the render that follows a script, placed at the script's
+/// last line when it has no place of its own.
+pub(crate) fn at_end_of(mut e: Exception, file: &str, line: u32) -> Exception {
+    if e.loc.is_none() {
+        e.loc = Some(crate::interp::Loc { file: Some(file.into()), line });
+    }
+    e
+}
+
 /// Turns the outcome of a top-level script into an exit code.
 pub fn finish(interp: &mut Interp, r: Result<Value, Exception>) -> i32 {
     let code = match r {
@@ -404,7 +421,8 @@ fn run(cli: Cli) -> i32 {
             let mut r = interp.eval_reader(Some(&path_str), &mut f);
             if let (Ok(_), Some(out)) = (&r, &cli.output) {
                 let argv = [Value::from("render"), Value::from(out.to_string_lossy().as_ref())];
-                r = interp.invoke(&argv);
+                let end = std::fs::read(path).map(|b| last_line(&b)).unwrap_or(1);
+                r = interp.invoke(&argv).map_err(|e| at_end_of(e, &path_str, end));
             }
             finish(&mut interp, r)
         }

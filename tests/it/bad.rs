@@ -241,10 +241,22 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         "spot light angles must satisfy 0 <= angle1 <= angle2 <= 180, got -5 and 20",
     ),
     (
-        "material zero ior",
-        "material 1 1 1 0 1 0 1 0 0",
+        "material glass zero ior",
+        "material 1 1 1 0 1 0 1 0.5 0",
         1,
-        "index of refraction must be positive, got 0",
+        "index of refraction must be positive (or 0 when T is 0), got 0",
+    ),
+    (
+        "material negative ior",
+        "material 1 1 1 0 1 0 1 0 -1",
+        1,
+        "index of refraction must be positive (or 0 when T is 0), got -1",
+    ),
+    (
+        "camera_resolution fraction as decimal",
+        "camera_resolution 64.0 2.5",
+        1,
+        "camera_resolution: height: expected integer but got \"2.5\"",
     ),
     (
         "material negative Kd",

@@ -117,3 +117,42 @@ fn source_returns_the_last_result() {
     assert_eq!(text(&out.stdout), "42\n1\n");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn numbers_as_old_converters_write_them() {
+    // Issue "pictures that hold up": C printf and converters write integers
+    // as integral decimals, and opaque SPD-style materials an ior of 0.
+    let dir = crate::util::scratch("decimals");
+    let out = dir.join("d.ppm");
+    let script = format!(
+        "camera_resolution 16.0 12.0; trace_depth 5.0; max_vertices 1e3; max_normals 3.0
+         vertex 0 0 -3; vertex 1 0 -3; vertex 0 1 -3
+         material 1 1 1 0.2 0.8 0 1 0 0
+         tri 0.0 1e0 2.0; ambient_light 1 1 1
+         render {{{}}}",
+        out.display()
+    );
+    let r = run(&["-c", &script], "");
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let img = rayshell::image::read_rgb8(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!((img.width, img.height), (16, 12));
+    assert!(img.rgb.iter().any(|&b| b > 0), "the triangle is there");
+}
+
+#[test]
+fn errors_at_the_final_render_name_the_script() {
+    // The render after a script (`raytrace scene.tsd out.ppm`) is placed at
+    // the script's last line; its message says what the camera was told.
+    let dir = crate::util::scratch("final-render");
+    let scene = dir.join("up.tsd");
+    std::fs::write(&scene, "camera_up 0 0 1\nsphere 0 0 -5 1\n").unwrap();
+    let out = dir.join("x.ppm");
+    let r = run(&[scene.to_str().unwrap(), out.to_str().unwrap()], "");
+    assert_eq!(r.status.code(), Some(1));
+    let want = format!(
+        "{}:2: camera up vector is parallel to the view direction (camera_up 0 0 1, looking along 0 0 -1)",
+        scene.display()
+    );
+    assert!(text(&r.stderr).starts_with(&want), "{}", text(&r.stderr));
+    assert!(!out.exists());
+}

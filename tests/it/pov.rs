@@ -29,9 +29,10 @@ fn pixels(path: &Path) -> Vec<u8> {
 
 /// (pixels off by more than 2/255, their share).
 fn compare(a: &[u8], b: &[u8]) -> (usize, f64) {
-    let off = a.chunks(3).zip(b.chunks(3)).filter(|(p, q)| {
-        p.iter().zip(q.iter()).any(|(x, y)| x.abs_diff(*y) > 2)
-    });
+    let off = a
+        .chunks(3)
+        .zip(b.chunks(3))
+        .filter(|(p, q)| p.iter().zip(q.iter()).any(|(x, y)| x.abs_diff(*y) > 2));
     let n = off.count();
     (n, n as f64 / (W * H) as f64)
 }
@@ -67,7 +68,9 @@ fn theirs(dir: &Path, name: &str) -> Vec<u8> {
 #[test]
 fn refraction_matches_povray() {
     if !povray_available() {
-        println!("SKIPPED refraction_matches_povray: povray is not installed (apt-get install povray)");
+        println!(
+            "SKIPPED refraction_matches_povray: povray is not installed (apt-get install povray)"
+        );
         return;
     }
     let dir = scratch("pov");
