@@ -296,21 +296,33 @@ impl Bvh {
     /// of each other (coplanar surfaces) go to the primitive added first,
     /// whatever the tree's layout, the order of the walk or the lane.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> (Option<Hit>, u32) {
-        let mut best: Option<(Hit, u32)> = None;
+        let mut best: Option<Hit> = None;
+        // The scene number of `best`, looked up only when a tie needs it.
+        let mut best_id: Option<u32> = None;
         let mut t_max = t_max;
         let pre = Pre4::new(ray, &RayPre::new(ray.dir));
+        let id = |prim: u32| self.recs[prim as usize].id;
         let mut consider = |hit: Hit, t_max: &mut f32| {
-            let id = self.recs[hit.prim as usize].id;
             let better = match best {
                 None => true,
+                Some(b) if hit.t < b.t * (1.0 - TIE) => true,
                 // (A block's lanes were tested against the same limit, so
                 // a lane may lie beyond the band of one found before it.)
-                Some((b, b_id)) => {
-                    hit.t < b.t * (1.0 - TIE) || (hit.t <= b.t * (1.0 + TIE) && id < b_id)
+                Some(b) if hit.t <= b.t * (1.0 + TIE) => {
+                    let b_id = *best_id.get_or_insert_with(|| id(b.prim));
+                    let hit_id = id(hit.prim);
+                    if hit_id < b_id {
+                        best_id = Some(hit_id);
+                        best = Some(hit);
+                        *t_max = t_max.min(hit.t * (1.0 + TIE));
+                    }
+                    return;
                 }
+                Some(_) => false,
             };
             if better {
-                best = Some((hit, id));
+                best = Some(hit);
+                best_id = None;
                 *t_max = t_max.min(hit.t * (1.0 + TIE));
             }
         };
@@ -335,7 +347,7 @@ impl Bvh {
             }
             false
         });
-        (best.map(|b| b.0), steps)
+        (best, steps)
     }
 
     /// What reaches the end of a shadow segment: the product of `pass(prim)`

@@ -351,11 +351,13 @@ fn shade(
     let view = -d;
 
     let mut color = m.ka * scene.ambient * m.color;
-    let shadow_origin = shadow_from + ng * offset(shadow_from, ray.origin);
+    let lifted = shadow_from != p;
+    let shadow_origin =
+        if lifted { shadow_from + ng * offset(shadow_from, ray.origin) } else { above };
     for light in &scene.lights {
         // A light below the facet but above the smooth surface is left to
         // the shadow ray from the lifted point, not cut off here.
-        let (l, _, li) = light.at(p);
+        let (l, dist, li) = light.at(p);
         if li == Vec3::ZERO {
             continue;
         }
@@ -364,7 +366,13 @@ fn shade(
             continue;
         }
         st.shadow += 1;
-        let (l_s, dist_s, _) = light.at(shadow_origin);
+        let (l_s, dist_s) = if lifted {
+            let (l_s, dist_s, _) = light.at(shadow_origin);
+            (l_s, dist_s)
+        } else {
+            (l, dist)
+        };
+        // Stop short of the light by the same margin as the start.
         let t_max = if dist_s.is_finite() { dist_s * (1.0 - 2.0 * OFFSET) } else { f32::INFINITY };
         let through = scene.bvh.transmittance(&Ray::new(shadow_origin, l_s), 0.0, t_max, |prim| {
             filter(&scene.materials[scene.bvh.material(prim) as usize])
