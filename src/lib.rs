@@ -12,11 +12,13 @@
 //!   scanner thread), `expr`, `builtins`. It knows nothing about graphics.
 //! - `geometry`: rays, boxes, spheres, watertight triangles, the 4-wide BVH
 //!   whose leaves hold blocks of four primitives tested in SIMD lanes.
-//! - `scene`: `Builder` (mutable, checked), `Scene` (frozen), camera, lights,
+//! - `scene`: `Builder` (mutable, checked, double precision), `Scene`
+//!   (frozen, single precision relative to the eye), camera, lights,
 //!   materials.
-//! - `render`: the Whitted tracer (`tracer`), parallel over tiles; `job`
-//!   says which pixels (crops), in what order (progressive passes), and
-//!   carries progress and cancellation.
+//! - `render`: the Whitted tracer (`tracer`: shading, the media a ray is
+//!   in, ray offsets), parallel over tiles; `job` says which pixels (crops),
+//!   in what order (progressive passes), and carries progress and
+//!   cancellation.
 //! - `image`: the linear f32 image, PPM and PNG writers and readers (with a
 //!   crop's placement).
 //! - `shell`: the glue and the only module that touches files, the terminal,
@@ -36,6 +38,13 @@
 //!   count, tile order, pass order, crop or shard.
 //! - The BVH's four-lane triangle test does the scalar watertight test's
 //!   arithmetic lane for lane: the same hits, to the bit.
+//! - The builder keeps positions in double precision; a frozen `Scene` is
+//!   single precision with the eye at the origin, and no tolerance in the
+//!   renderer is absolute: the picture does not depend on where the scene
+//!   sits or on its scale.
+//! - Of hits within `bvh::TIE` of each other, the primitive added to the
+//!   scene first wins: coplanar surfaces resolve the same way for any tree,
+//!   walk order, lane or thread count.
 //! - An image reaches its final name only whole (`shell::AtomicFile`).
 //! - No input makes the program panic: bad scripts are `Exception`s with a
 //!   file and line; a panic that slips through still exits 70, never 101.
