@@ -437,11 +437,21 @@ fn coplanar_triangles_show_the_one_added_first() {
 /// A 6x12 sphere of smooth (counter-clockwise) triangles lit by a parallel
 /// light travelling along `dir`, over a faint ambient that marks its disk.
 fn coarse_sphere(dir: &str) -> String {
+    coarse_sphere_with(dir, "1 1 1 1 1 0 1 0 1", false)
+}
+
+/// The coarse sphere with a material, wound clockwise if `cw`.
+fn coarse_sphere_with(dir: &str, material: &str, cw: bool) -> String {
+    let corners = if cw {
+        "$v($p) $nn($p) $v($r) $nn($r) $v($q) $nn($q)"
+    } else {
+        "$v($p) $nn($p) $v($q) $nn($q) $v($r) $nn($r)"
+    };
     format!(
         "
 camera_from 0 0 4; camera_target 0 0 0; camera_angle 40; camera_resolution 128 128
 parallel_light 1 1 1 {dir}; ambient_light 0.02 0.02 0.02
-material 1 1 1 1 1 0 1 0 1
+material {material}
 set pi [expr {{acos(-1)}}]
 set rows 6; set cols 12
 for {{set i 0}} {{$i <= $rows}} {{incr i}} {{
@@ -455,7 +465,7 @@ for {{set i 0}} {{$i < $rows}} {{incr i}} {{
     for {{set j 0}} {{$j < $cols}} {{incr j}} {{
         set k [expr {{($j + 1) % $cols}}]; set i1 [expr {{$i + 1}}]
         foreach {{p q r}} [list $i,$j $i,$k $i1,$k  $i,$j $i1,$k $i1,$j] {{
-            ntri $v($p) $nn($p) $v($q) $nn($q) $v($r) $nn($r)
+            ntri {corners}
         }}
     }}
 }}
@@ -546,4 +556,18 @@ fn pngs_say_how_their_values_are_encoded() {
         .unwrap();
     assert!(r.status.success(), "{}", text(&r.stderr));
     assert_eq!(find(&merged, "sRGB"), Some(vec![0]));
+}
+
+#[test]
+fn smooth_meshes_shade_the_same_whichever_way_they_are_wound() {
+    // Issue "pictures that hold up": a clockwise `ntri` mesh lost its vertex
+    // normals (`ns = ng` when they disagreed) and was flat-shaded with a
+    // square highlight. The shading normal is now turned to the ray's side.
+    let m = "0.8 0.3 0.2 0.1 0.7 0.5 30 0 1";
+    let ccw = render_script(&coarse_sphere_with("-1 -0.5 -1", m, false));
+    let cw = render_script(&coarse_sphere_with("-1 -0.5 -1", m, true));
+    assert!(ccw.pixels.iter().any(|p| p.x > 0.5), "the highlight is there");
+    let (a, b) = (ccw.to_rgb8(Encoding::Linear), cw.to_rgb8(Encoding::Linear));
+    let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert_eq!(differ, 0, "{differ} bytes differ between the two windings");
 }
