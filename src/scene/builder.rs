@@ -124,6 +124,9 @@ pub struct Builder {
     /// The largest `camera_resolution` accepted (`MAX_PIXELS` unless an
     /// embedder lowers it; `clear` keeps it).
     pub max_pixels: u64,
+    /// Counts changes (the shell bumps it after every scene command), so
+    /// a render can tell that nothing changed since the last one.
+    pub generation: u64,
 }
 
 impl Default for Builder {
@@ -145,6 +148,7 @@ impl Default for Builder {
             background: Vec3::ZERO,
             trace_depth: 5,
             max_pixels: MAX_PIXELS,
+            generation: 0,
         }
     }
 }
@@ -497,6 +501,7 @@ impl Builder {
 
     /// Back to the initial state.
     pub fn clear(&mut self) {
-        *self = Builder { max_pixels: self.max_pixels, ..Builder::default() };
+        let (max_pixels, generation) = (self.max_pixels, self.generation + 1);
+        *self = Builder { max_pixels, generation, ..Builder::default() };
     }
 }

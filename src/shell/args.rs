@@ -15,12 +15,14 @@ use super::feedback::ProgressMode;
     after_help = "Examples:\n  raytrace tsd/teapot.tsd teapot.ppm   run a scene, render it to a file\n  raytrace anim.tsd                    run a script (it calls render itself)\n  raytrace                             interactive shell\n  raytrace -c 'puts [expr {2**10}]'    run a string\n  raytrace script.tsd -- a b c         pass arguments ($argv)"
 )]
 pub struct Cli {
-    /// The script to run (a .tsd scene is a Tcl script).
+    /// The script to run (a .tsd scene is a Tcl script; `-` reads it from
+    /// standard input).
     pub script: Option<PathBuf>,
     /// Render the final scene into this file (.ppm or .png) after the script.
     pub output: Option<PathBuf>,
-    /// Run this script text instead of a file.
-    #[arg(short = 'c', long = "command", value_name = "SCRIPT", conflicts_with = "script")]
+    /// Run this script text instead of a file (`-c SCRIPT OUTPUT` renders
+    /// the final scene into OUTPUT).
+    #[arg(short = 'c', long = "command", value_name = "SCRIPT")]
     pub command: Option<String>,
     /// Render with N threads (default: all cores). The picture is the same
     /// for any N.
@@ -57,7 +59,8 @@ pub struct Cli {
     pub fps: u16,
     /// Animation batch: run the script once per frame (fresh interpreter and
     /// scene, `$frame` set) and render each frame into OUTPUT with its number
-    /// (`#` runs or a printf `%0Nd` in OUTPUT; default SCRIPT-####.png).
+    /// (`#` runs or a printf `%0Nd` in OUTPUT; default SCRIPT-####.png, or
+    /// only what the script renders itself).
     #[arg(long, value_name = "FIRST..LAST", value_parser = parse_frames)]
     pub frames: Option<(i64, i64)>,
     /// Every Nth frame of --frames.
@@ -79,11 +82,63 @@ pub struct Cli {
 pub fn parse() -> Result<Cli, u8> {
     match Cli::try_parse() {
         Ok(c) => Ok(c),
+        Err(e) if e.kind() == clap::error::ErrorKind::UnknownArgument => {
+            eprintln!("{}", unknown_option(&e));
+            Err(2)
+        }
         Err(e) => {
             let _ = e.print();
             Err(if e.use_stderr() { 2 } else { 0 })
         }
     }
+}
+
+/// The message for an unknown option: what was given, the likely one, and
+/// every valid option. (clap's own advice to write `-- --x` is wrong here:
+/// `--` passes arguments to the script.)
+fn unknown_option(e: &clap::Error) -> String {
+    use clap::error::{ContextKind, ContextValue};
+    let given = match e.get(ContextKind::InvalidArg) {
+        Some(ContextValue::String(s)) => s.clone(),
+        _ => "?".into(),
+    };
+    let mut msg = format!("raytrace: unknown option \"{given}\"");
+    if let Some(v) = e.get(ContextKind::SuggestedArg) {
+        let s = match v {
+            ContextValue::String(s) => s.clone(),
+            ContextValue::Strings(v) => v.join(", "),
+            _ => String::new(),
+        };
+        if !s.is_empty() {
+            msg.push_str(&format!(" (did you mean {s}?)"));
+        }
+    }
+    msg.push_str("; the options are:\n  ");
+    msg.push_str(&options().join(" "));
+    msg.push_str("\n(`raytrace --help` explains them; arguments after `--` go to the script)");
+    msg
+}
+
+/// Every option, as `--long` (with `-s` for those with a short form).
+pub fn options() -> Vec<String> {
+    use clap::CommandFactory;
+    let cmd = Cli::command();
+    let mut v: Vec<String> = cmd
+        .get_arguments()
+        .filter(|a| !a.is_positional())
+        .filter_map(|a| {
+            let long = a.get_long().map(|l| format!("--{l}"));
+            match (a.get_short(), long) {
+                (Some(s), Some(l)) => Some(format!("-{s}/{l}")),
+                (None, Some(l)) => Some(l),
+                (Some(s), None) => Some(format!("-{s}")),
+                (None, None) => None,
+            }
+        })
+        .collect();
+    v.push("--help".into());
+    v.push("--version".into());
+    v
 }
 
 /// `FIRST..LAST` (inclusive), or a single frame number.

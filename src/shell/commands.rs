@@ -15,7 +15,7 @@ use crate::interp::{Exception, Interp, Num, Value, check_args, format_double};
 use crate::render;
 use crate::scene::{Builder, Light, Material, Scene, SceneError};
 
-use super::stats::{RenderReport, ShellState};
+use super::stats::{Picture, RenderReport, ShellState};
 
 fn scene_err(e: SceneError) -> Exception {
     Exception::error(e.to_string())
@@ -93,7 +93,9 @@ fn numeric(
     let s = scene.clone();
     let (n, u) = (name.to_string(), usage.to_string());
     interp.register_numeric(name, arity, usage, summary, move |_, nums| {
-        f(&mut s.borrow_mut(), &Args { nums, name: &n, usage: &u })
+        let mut b = s.borrow_mut();
+        b.generation += 1;
+        f(&mut b, &Args { nums, name: &n, usage: &u })
     });
 }
 
@@ -321,7 +323,11 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "mesh",
         "fileName ?-scale s? ?-translate x y z? ?-flat?",
         "add an OBJ mesh with the current material; returns its triangle count",
-        move |_, argv| mesh_command(&mut s.borrow_mut(), argv),
+        move |_, argv| {
+            let mut b = s.borrow_mut();
+            b.generation += 1;
+            mesh_command(&mut b, argv)
+        },
     );
     let s = scene.clone();
     let st = state.clone();
@@ -456,12 +462,17 @@ fn render_command(
         ))
     })?;
     let write_err = |err: std::io::Error| {
-        Exception::error(format!("couldn't write \"{path}\": {}", super::io_reason(&err)))
-            .with_error_code(super::IO_ERROR_CODE)
+        let e = Exception::error(format!("couldn't write \"{path}\": {}", super::io_reason(&err)));
+        // A missing directory or a forbidden one is the script's mistake
+        // (exit 1: the same again fails the same way); a full disk or a
+        // failing device may pass on a retry (exit 74).
+        match err.kind() {
+            std::io::ErrorKind::NotFound | std::io::ErrorKind::PermissionDenied => e,
+            _ => e.with_error_code(super::IO_ERROR_CODE),
+        }
     };
     let parse_seconds = state.borrow().since_last.elapsed().as_secs_f64();
-    let scene = Scene::freeze(b).map_err(scene_err)?;
-    let (width, height) = (scene.camera.width, scene.camera.height);
+    let (width, height) = (b.width, b.height);
     let crop = state.borrow().feedback.crop;
     let placement = match crop {
         Some(r) if r.x1 > width || r.y1 > height => {
@@ -478,6 +489,32 @@ fn render_command(
         }),
         None => None,
     };
+    // Nothing changed since the last picture was traced: write that one.
+    let unchanged = state
+        .borrow()
+        .last_picture
+        .as_ref()
+        .is_some_and(|p| p.generation == b.generation && p.heatmap == heatmap);
+    if unchanged {
+        let mut out = super::AtomicFile::create(path).map_err(write_err)?;
+        let mut st = state.borrow_mut();
+        let img = &st.last_picture.as_ref().expect("checked above").image;
+        img.write_placed(out.writer(), format, enc, placement).map_err(write_err)?;
+        out.commit().map_err(write_err)?;
+        let (w, h) = (img.width, img.height);
+        st.feedback.finished(&super::feedback::Finished {
+            file: path,
+            width: w,
+            height: h,
+            seconds: 0.0,
+            rays: 0,
+            traced: false,
+        });
+        st.renders += 1;
+        st.since_last = Instant::now();
+        return Ok(Value::empty());
+    }
+    let scene = Scene::freeze(b).map_err(scene_err)?;
     // Open the output before the work, so a bad path fails at once.
     let mut out = super::AtomicFile::create(path).map_err(write_err)?;
     for w in scene.warnings() {
@@ -485,6 +522,8 @@ fn render_command(
     }
     let start = Instant::now();
     let mut st = state.borrow_mut();
+    // The old picture goes before the new one is traced (peak memory).
+    st.last_picture = None;
     let done = st.feedback.watch(path, (width, height), progressive, |job| {
         if heatmap { render::render_heatmap(&scene, job) } else { render::render(&scene, job) }
     });
@@ -500,11 +539,14 @@ fn render_command(
         height: img.height,
         seconds: render_seconds,
         rays: rays.total(),
+        traced: true,
     });
     let report = RenderReport::new(&scene, parse_seconds, render_seconds, rays);
     if st.print_stats {
         interp.write_stderr(&format!("{report}\n"))?;
     }
+    st.renders += 1;
+    st.last_picture = Some(Picture { generation: b.generation, heatmap, image: img });
     st.last = Some(report);
     st.since_last = Instant::now();
     Ok(Value::empty())

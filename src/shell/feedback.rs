@@ -59,12 +59,13 @@ pub struct Finished<'a> {
     pub height: u32,
     pub seconds: f64,
     pub rays: u64,
+    /// False when the picture was written again without tracing (the
+    /// scene had not changed since it was traced).
+    pub traced: bool,
 }
 
 pub struct Feedback {
     pub mode: ProgressMode,
-    /// Lines for every render (not only batch frames) in plain mode.
-    plain_every_render: bool,
     /// Trace in coarse-to-fine passes.
     pub progressive: bool,
     /// Render only this part of the picture.
@@ -80,14 +81,13 @@ const BAR_DELAY: Duration = Duration::from_secs(1);
 
 impl Feedback {
     pub fn new(mode: ProgressMode) -> Feedback {
-        let (mode, plain_every_render) = match mode {
-            ProgressMode::Auto if std::io::stderr().is_terminal() => (ProgressMode::Bar, false),
-            ProgressMode::Auto => (ProgressMode::Plain, false),
-            m => (m, true),
+        let mode = match mode {
+            ProgressMode::Auto if std::io::stderr().is_terminal() => ProgressMode::Bar,
+            ProgressMode::Auto => ProgressMode::Plain,
+            m => m,
         };
         Feedback {
             mode,
-            plain_every_render,
             progressive: false,
             crop: None,
             preview: None,
@@ -217,17 +217,19 @@ impl Feedback {
                 r.height,
                 r.seconds
             )),
-            ProgressMode::Plain if self.plain_every_render || self.frame.is_some() => {
+            ProgressMode::Plain | ProgressMode::Bar => {
                 let what = match self.frame {
-                    Some(f) => format!("frame {} ({}/{})", f.frame, f.index, f.count),
-                    None => "rendered".into(),
+                    Some(f) => format!("frame {} ({}/{}): ", f.frame, f.index, f.count),
+                    None => String::new(),
                 };
-                self.line(&format!(
-                    "{what}: {} {}x{} in {:.2} s ({mrays:.1} Mrays/s)",
-                    r.file, r.width, r.height, r.seconds
-                ));
+                let how = if r.traced {
+                    format!("in {:.2} s ({mrays:.1} Mrays/s)", r.seconds)
+                } else {
+                    "(the scene had not changed since it was traced)".into()
+                };
+                self.line(&format!("{what}wrote {} {}×{} {how}", r.file, r.width, r.height));
             }
-            _ => {}
+            ProgressMode::Auto | ProgressMode::None => {}
         }
         if let Some(b) = &self.batch_bar {
             b.inc(1);

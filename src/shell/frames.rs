@@ -3,9 +3,10 @@
 //! picture back together.
 //!
 //! Each frame runs the script in a fresh interpreter and scene with
-//! `$frame` set, then renders the final scene into the frame's file, so a
+//! `$frame` set, then renders the final scene into the frame's file (unless
+//! the script rendered by itself and no output pattern was given), so a
 //! frame's picture never depends on which other frames ran before it: any
-//! sharding gives the same bytes.
+//! sharding gives the same bytes. An unchanged scene is never traced twice.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -24,15 +25,17 @@ pub fn frames_of(first: i64, last: i64, step: u32, shard: Option<(usize, usize)>
     }
 }
 
-/// The file for frame `f`: the pattern's `%0Nd` (printf) or last run of
-/// `#` is replaced by the number, zero-padded to at least `width` digits;
-/// a pattern with neither gets `-NNNN` before its extension.
+/// The file for frame `f`: the pattern's `%0Nd` is replaced as printf
+/// would (at least N digits), or its last run of `#` by the number
+/// zero-padded to at least `width` digits; a pattern with neither gets
+/// `-NNNN` before its extension.
 pub fn frame_name(pattern: &str, f: i64, width: usize) -> String {
     if let Some(start) = pattern.find('%') {
         let rest = &pattern[start + 1..];
         let digits = rest.bytes().take_while(|b| b.is_ascii_digit()).count();
         if rest[digits..].starts_with('d') {
-            let w = rest[..digits].parse::<usize>().unwrap_or(0).max(width);
+            // As printf does: `%03d` pads to three digits, `%d` not at all.
+            let w = rest[..digits].parse::<usize>().unwrap_or(0);
             return format!("{}{f:0w$}{}", &pattern[..start], &rest[digits + 1..]);
         }
     }
@@ -115,7 +118,10 @@ pub fn run_batch(cli: &Cli) -> i32 {
         super::set_argv(&mut interp, &script_name, &cli.args);
         let _ = interp.set_var("frame", Value::from_int(f));
         let mut r = interp.eval_source(&src, Some(&script_name));
-        if r.is_ok() {
+        // A script that renders its frames itself, with no output pattern
+        // given, has written what it wanted: no second picture.
+        let rendered_itself = session.state.borrow().renders > 0;
+        if r.is_ok() && (cli.output.is_some() || !rendered_itself) {
             r = interp
                 .invoke(&[Value::from("render"), Value::from(out.as_str())])
                 .map_err(|e| super::at_end_of(e, &script_name, super::last_line(src.as_bytes())));
@@ -271,7 +277,9 @@ mod tests {
         assert_eq!(frame_name("out/f####.png", 7, 4), "out/f0007.png");
         assert_eq!(frame_name("f##.ppm", 7, 4), "f0007.ppm");
         assert_eq!(frame_name("f######.png", 12, 4), "f000012.png");
-        assert_eq!(frame_name("f%03d.png", 7, 4), "f0007.png");
+        assert_eq!(frame_name("f%03d.png", 7, 4), "f007.png");
+        assert_eq!(frame_name("f%03d.png", 1234, 4), "f1234.png");
+        assert_eq!(frame_name("f%d.png", 7, 4), "f7.png");
         assert_eq!(frame_name("f%06d.png", 7, 4), "f000007.png");
         assert_eq!(frame_name("dir/anim.png", 7, 4), "dir/anim-0007.png");
         assert_eq!(frame_name("f####.png", 12345, 5), "f12345.png");

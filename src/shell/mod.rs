@@ -396,42 +396,110 @@ fn run(cli: Cli) -> i32 {
             return EXIT_USAGE;
         }
     };
-    let mut interp = session.interp;
-    if let Some(cmd) = &cli.command {
-        set_argv(&mut interp, "raytrace", &cli.args);
-        return run_main_script(&mut interp, cmd, None);
+    // With -c, a first positional argument is the output file.
+    let output = match (&cli.command, &cli.script, &cli.output) {
+        (Some(_), Some(_), Some(extra)) => {
+            eprintln!(
+                "raytrace: with -c, only an output file may follow, not also \"{}\"",
+                extra.display()
+            );
+            return EXIT_USAGE;
+        }
+        (Some(_), Some(out), None) => Some(out.clone()),
+        (_, _, out) => out.clone(),
+    };
+    // A mistyped output name fails now, not after a long script.
+    if let Some(out) = &output
+        && let Err(msg) = check_output(out)
+    {
+        eprintln!("raytrace: {msg}");
+        return EXIT_USAGE;
     }
-    match &cli.script {
-        Some(path) => {
-            let path_str = path.to_string_lossy().into_owned();
-            set_argv(&mut interp, &path_str, &cli.args);
-            if path.is_dir() {
-                eprintln!(
-                    "raytrace: couldn't read file \"{path_str}\": illegal operation on a directory"
-                );
-                return 1;
-            }
-            let mut f = match std::fs::File::open(path) {
-                Ok(f) => f,
-                Err(e) => {
-                    eprintln!("raytrace: couldn't read file \"{path_str}\": {}", io_reason(&e));
-                    return 1;
+    let state = session.state.clone();
+    let scene = session.scene.clone();
+    let mut interp = session.interp;
+    let (r, file, end) = if let Some(cmd) = &cli.command {
+        set_argv(&mut interp, "raytrace", &cli.args);
+        (interp.eval_source(cmd, None), None, last_line(cmd.as_bytes()))
+    } else {
+        match &cli.script {
+            Some(path) if path.as_os_str() != "-" => {
+                let path_str = path.to_string_lossy().into_owned();
+                set_argv(&mut interp, &path_str, &cli.args);
+                if path.is_dir() {
+                    eprintln!(
+                        "raytrace: couldn't read file \"{path_str}\": illegal operation on a directory"
+                    );
+                    return EXIT_SCRIPT;
                 }
-            };
-            let mut r = interp.eval_reader(Some(&path_str), &mut f);
-            if let (Ok(_), Some(out)) = (&r, &cli.output) {
-                let argv = [Value::from("render"), Value::from(out.to_string_lossy().as_ref())];
+                let mut f = match std::fs::File::open(path) {
+                    Ok(f) => f,
+                    Err(e) => {
+                        eprintln!("raytrace: couldn't read file \"{path_str}\": {}", io_reason(&e));
+                        return EXIT_SCRIPT;
+                    }
+                };
+                let r = interp.eval_reader(Some(&path_str), &mut f);
                 let end = std::fs::read(path).map(|b| last_line(&b)).unwrap_or(1);
-                r = interp.invoke(&argv).map_err(|e| at_end_of(e, &path_str, end));
+                (r, Some(path_str), end)
             }
-            finish(&mut interp, r)
+            None if std::io::stdin().is_terminal() => return repl::run(&mut interp),
+            // No script, or `-`: the script is standard input.
+            _ => {
+                set_argv(&mut interp, "raytrace", &cli.args);
+                let r = interp.eval_reader(Some("stdin"), &mut std::io::stdin());
+                (r, Some("stdin".to_string()), 1)
+            }
         }
-        None if std::io::stdin().is_terminal() => repl::run(&mut interp),
-        None => {
-            set_argv(&mut interp, "raytrace", &cli.args);
-            let r = interp.eval_reader(Some("stdin"), &mut std::io::stdin());
-            finish(&mut interp, r)
+    };
+    let r = match (r, &output) {
+        (Ok(_), Some(out)) => {
+            let argv = [Value::from("render"), Value::from(out.to_string_lossy().as_ref())];
+            interp.invoke(&argv).map_err(|e| match &file {
+                Some(f) => at_end_of(e, f, end),
+                None => e,
+            })
         }
+        (r, _) => r,
+    };
+    if r.is_ok() && output.is_none() && state.borrow().renders == 0 {
+        let b = scene.borrow();
+        if !b.prims.is_empty() || !b.lights.is_empty() {
+            let name = file.as_deref().unwrap_or("the script");
+            eprintln!(
+                "raytrace: {name} built a scene but rendered nothing; name an output file \
+                 (raytrace {} out.png) or call `render out.png` in the script",
+                file.as_deref().unwrap_or("scene.tsd")
+            );
+        }
+    }
+    finish(&mut interp, r)
+}
+
+/// Checks an output file's name before any work: a known extension, and a
+/// directory that exists and takes new files.
+fn check_output(path: &std::path::Path) -> Result<(), String> {
+    let name = path.to_string_lossy();
+    if crate::image::Format::from_path(&name).is_none() {
+        return Err(format!(
+            "unknown image format for \"{name}\": the name must end in .ppm or .png"
+        ));
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(format!("can't write \"{name}\": no directory \"{}\"", dir.display()));
+    }
+    // Try the directory as the render will: a new file beside the output.
+    let probe = dir.join(format!(".rayshell-probe.{}", std::process::id()));
+    match std::fs::OpenOptions::new().write(true).create_new(true).open(&probe) {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            Ok(())
+        }
+        Err(e) => Err(format!("can't write \"{name}\": {}", io_reason(&e))),
     }
 }
 

@@ -17,6 +17,19 @@ pub struct ShellState {
     pub feedback: Feedback,
     /// `raybench -threads N`'s thread pools, kept for the session.
     pub pools: Vec<(usize, std::sync::Arc<rayon::ThreadPool>)>,
+    /// The last picture traced, so rendering an unchanged scene again
+    /// writes it without tracing.
+    pub last_picture: Option<Picture>,
+    /// How many pictures `render` has written in this session.
+    pub renders: usize,
+}
+
+/// A traced picture and what it was traced from.
+pub struct Picture {
+    /// The scene's `Builder::generation` when it was traced.
+    pub generation: u64,
+    pub heatmap: bool,
+    pub image: crate::image::Image,
 }
 
 impl Default for ShellState {
@@ -27,6 +40,8 @@ impl Default for ShellState {
             last: None,
             feedback: Feedback::new(ProgressMode::Auto),
             pools: Vec::new(),
+            last_picture: None,
+            renders: 0,
         }
     }
 }

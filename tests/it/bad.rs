@@ -305,7 +305,7 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
     (
         "render missing dir",
         "render /nonexistent-dir/x.ppm",
-        74,
+        1,
         "couldn't write \"/nonexistent-dir/x.ppm\": no such file or directory",
     ),
     ("render into a file", "render bad.tsd/x.png", 74, "couldn't write \"bad.tsd/x.png\": "),

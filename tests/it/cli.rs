@@ -156,3 +156,84 @@ fn errors_at_the_final_render_name_the_script() {
     assert!(text(&r.stderr).starts_with(&want), "{}", text(&r.stderr));
     assert!(!out.exists());
 }
+
+#[test]
+fn the_first_run_says_what_happened() {
+    // Issue "the first ten minutes": each render prints one line; an
+    // unchanged scene is never traced twice; a script that builds a scene
+    // but renders nothing says so.
+    let dir = crate::util::scratch("said");
+    let scene = dir.join("s.tsd");
+    let a = dir.join("a.ppm");
+    std::fs::write(
+        &scene,
+        format!(
+            "camera_resolution 20 10; sphere 0 0 -3 1; point_light 1 1 1 0 2 0\nrender {{{}}}\n",
+            a.display()
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out.ppm");
+    let r = run(&[scene.to_str().unwrap(), out.to_str().unwrap()], "");
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let err = text(&r.stderr);
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 2, "{err}");
+    assert!(lines[0].starts_with(&format!("wrote {} 20×10 in ", a.display())), "{err}");
+    assert!(lines[0].ends_with("Mrays/s)"), "{err}");
+    assert_eq!(
+        lines[1],
+        format!("wrote {} 20×10 (the scene had not changed since it was traced)", out.display())
+    );
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&out).unwrap());
+    // --quiet says nothing.
+    let r = run(&["-q", scene.to_str().unwrap(), out.to_str().unwrap()], "");
+    assert_eq!(text(&r.stderr), "");
+    // A scene and no render: exit 0, and how to get a picture.
+    let r = run(&["-c", "sphere 0 0 -3 1"], "");
+    assert_eq!(r.status.code(), Some(0));
+    assert!(text(&r.stderr).contains("rendered nothing"), "{}", text(&r.stderr));
+    // Pure Tcl is not a scene: nothing to say.
+    let r = run(&["-c", "puts hi"], "");
+    assert_eq!(text(&r.stderr), "");
+}
+
+#[test]
+fn stdin_dash_and_dash_c_with_an_output() {
+    let dir = crate::util::scratch("dash");
+    let scene = "camera_resolution 8 6; sphere 0 0 -3 1; ambient_light 1 1 1\n";
+    let (a, b) = (dir.join("a.png"), dir.join("b.png"));
+    let r = run(&["-", a.to_str().unwrap()], scene);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let r = run(&["-c", scene, b.to_str().unwrap()], "");
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    let r = run(&["-c", scene, b.to_str().unwrap(), "extra.png"], "");
+    assert_eq!(r.status.code(), Some(2));
+}
+
+#[test]
+fn the_output_is_checked_before_the_script_runs() {
+    // A mistyped output fails at once with exit 2, before the script's
+    // first line runs; a missing directory is a usage error, not an I/O
+    // failure worth retrying (74).
+    let dir = crate::util::scratch("outcheck");
+    let scene = dir.join("s.tsd");
+    std::fs::write(&scene, "puts started\nsphere 0 0 -3 1\n").unwrap();
+    for (out, want) in [
+        (dir.join("out.jpg"), "unknown image format"),
+        (dir.join("no/such/dir/out.png"), "no directory"),
+    ] {
+        let r = run(&[scene.to_str().unwrap(), out.to_str().unwrap()], "");
+        assert_eq!(r.status.code(), Some(2), "{}", text(&r.stderr));
+        assert_eq!(text(&r.stdout), "", "the script ran");
+        assert!(text(&r.stderr).contains(want), "{}", text(&r.stderr));
+    }
+    // An unknown option names the valid ones, and not clap's `-- --x` tip.
+    let r = run(&["--thread", "2"], "");
+    assert_eq!(r.status.code(), Some(2));
+    let err = text(&r.stderr);
+    assert!(err.contains("unknown option \"--thread\" (did you mean --threads?)"), "{err}");
+    assert!(err.contains("--frames") && err.contains("--quiet"), "{err}");
+    assert!(!err.contains("-- --thread"), "{err}");
+}

@@ -34,8 +34,8 @@ fn frames_are_selected_named_and_rendered_once() {
     let err = text(&r.stderr);
     let lines: Vec<&str> = err.lines().collect();
     assert_eq!(lines.len(), 4, "{err}");
-    assert!(lines[0].starts_with("frame 3 (1/3): out/f0003.png 40x30 in "), "{err}");
-    assert!(lines[2].starts_with("frame 11 (3/3): out/f0011.png"), "{err}");
+    assert!(lines[0].starts_with("frame 3 (1/3): wrote out/f0003.png 40×30 in "), "{err}");
+    assert!(lines[2].starts_with("frame 11 (3/3): wrote out/f0011.png"), "{err}");
     assert!(lines[3].starts_with("3 frame(s) rendered, 0 skipped"), "{err}");
     // Each frame differs (the sphere moves), and the default name pattern.
     let a = std::fs::read(dir.join("out/f0003.png")).unwrap();
@@ -302,4 +302,29 @@ fn gnu_parallel_shards_match_a_single_run() {
         );
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_self_rendering_script_is_not_traced_twice() {
+    // Issue "the first ten minutes": without an output pattern, --frames
+    // writes only what the script writes; with one, the same pictures are
+    // copied, not traced again.
+    let dir = scratch("selfrender");
+    std::fs::write(
+        dir.join("anim.tsd"),
+        "camera_resolution 16 12; sphere [expr {$frame * 0.1}] 0 -3 1; ambient_light 1 1 1\n\
+         render [format self%02d.png $frame]\n",
+    )
+    .unwrap();
+    let r = batch(&dir, &["--frames", "0..2"]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    assert_eq!(listing(&dir), ["anim.tsd", "self00.png", "self01.png", "self02.png"]);
+    let r = batch(&dir, &["out/f####.png", "--frames", "0..1"]);
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let err = text(&r.stderr);
+    assert_eq!(err.matches("(the scene had not changed since it was traced)").count(), 2, "{err}");
+    assert_eq!(
+        std::fs::read(dir.join("self01.png")).unwrap(),
+        std::fs::read(dir.join("out/f0001.png")).unwrap()
+    );
 }
