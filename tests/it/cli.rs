@@ -2,8 +2,7 @@
 
 use crate::util::{run, text};
 
-#[test]
-fn dash_c_and_stdin() {
+pub fn dash_c_and_stdin() {
     let out = run(&["-c", "puts [expr {6 * 7}]"], "");
     assert_eq!(text(&out.stdout), "42\n");
     let out = run(&[], "puts hi\nputs [llength {a b}]\n");
@@ -15,14 +14,12 @@ fn dash_c_and_stdin() {
     assert!(text(&out.stderr).starts_with("stdin:2: invalid command name \"nope\""));
 }
 
-#[test]
-fn argv_like_tclsh() {
+pub fn argv_like_tclsh() {
     let out = run(&["-c", "puts \"$argc [lindex $argv 1]\"", "--", "a", "b c"], "");
     assert_eq!(text(&out.stdout), "2 b c\n");
 }
 
-#[test]
-fn options() {
+pub fn options() {
     let out = run(&["--version"], "");
     assert!(text(&out.stdout).starts_with("raytrace "));
     let out = run(&["--help"], "");
@@ -38,8 +35,7 @@ fn options() {
     assert!(text(&out.stderr).contains("illegal operation on a directory"));
 }
 
-#[test]
-fn help_lists_commands() {
+pub fn help_lists_commands() {
     let out = run(&["-c", "puts [help]; puts [help lsort]"], "");
     let s = text(&out.stdout);
     assert!(
@@ -51,8 +47,7 @@ fn help_lists_commands() {
     assert!(s.contains("lsort ?-option value ...? list"), "{s}");
 }
 
-#[test]
-fn no_panic_on_garbage() {
+pub fn no_panic_on_garbage() {
     let garbage: String =
         (0..2000u32).map(|i| char::from_u32((i * 7919) % 0x2FF + 1).unwrap_or('x')).collect();
     let out = run(&[], &garbage);
@@ -68,8 +63,7 @@ fn no_panic_on_garbage() {
 
 /// Every input that once crashed (found by fuzzing, kept in tests/regress)
 /// now ends with a Tcl error or success, never a panic.
-#[test]
-fn regressions_do_not_crash() {
+pub fn regressions_do_not_crash() {
     let dir = crate::util::root().join("tests/regress");
     let mut n = 0;
     for entry in std::fs::read_dir(&dir).expect("tests/regress") {
@@ -103,8 +97,7 @@ fn regressions_do_not_crash() {
     assert!(n > 0);
 }
 
-#[test]
-fn source_returns_the_last_result() {
+pub fn source_returns_the_last_result() {
     let dir = std::env::temp_dir().join(format!("rayshell-src-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("a.tcl"), "set x 1\nexpr {40 + 2}\n").unwrap();
@@ -118,8 +111,7 @@ fn source_returns_the_last_result() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn numbers_as_old_converters_write_them() {
+pub fn numbers_as_old_converters_write_them() {
     // Issue "pictures that hold up": C printf and converters write integers
     // as integral decimals, and opaque SPD-style materials an ior of 0.
     let dir = crate::util::scratch("decimals");
@@ -139,8 +131,7 @@ fn numbers_as_old_converters_write_them() {
     assert!(img.rgb.iter().any(|&b| b > 0), "the triangle is there");
 }
 
-#[test]
-fn errors_at_the_final_render_name_the_script() {
+pub fn errors_at_the_final_render_name_the_script() {
     // The render after a script (`raytrace scene.tsd out.ppm`) is placed at
     // the script's last line; its message says what the camera was told.
     let dir = crate::util::scratch("final-render");
@@ -157,8 +148,7 @@ fn errors_at_the_final_render_name_the_script() {
     assert!(!out.exists());
 }
 
-#[test]
-fn the_first_run_says_what_happened() {
+pub fn the_first_run_says_what_happened() {
     // Issue "the first ten minutes": each render prints one line; an
     // unchanged scene is never traced twice; a script that builds a scene
     // but renders nothing says so.
@@ -198,8 +188,7 @@ fn the_first_run_says_what_happened() {
     assert_eq!(text(&r.stderr), "");
 }
 
-#[test]
-fn stdin_dash_and_dash_c_with_an_output() {
+pub fn stdin_dash_and_dash_c_with_an_output() {
     let dir = crate::util::scratch("dash");
     let scene = "camera_resolution 8 6; sphere 0 0 -3 1; ambient_light 1 1 1\n";
     let (a, b) = (dir.join("a.png"), dir.join("b.png"));
@@ -212,8 +201,7 @@ fn stdin_dash_and_dash_c_with_an_output() {
     assert_eq!(r.status.code(), Some(2));
 }
 
-#[test]
-fn the_output_is_checked_before_the_script_runs() {
+pub fn the_output_is_checked_before_the_script_runs() {
     // A mistyped output fails at once with exit 2, before the script's
     // first line runs; a missing directory is a usage error, not an I/O
     // failure worth retrying (74).

@@ -23,8 +23,7 @@ fn batch(dir: &Path, args: &[&str]) -> std::process::Output {
     raytrace().args(["anim.tsd"]).args(args).current_dir(dir).output().expect("run raytrace")
 }
 
-#[test]
-fn frames_are_selected_named_and_rendered_once() {
+pub fn frames_are_selected_named_and_rendered_once() {
     let dir = scratch("frames");
     std::fs::write(dir.join("anim.tsd"), ANIM).unwrap();
     let r = batch(&dir, &["out/f####.png", "--frames", "3..11", "--step", "4"]);
@@ -47,8 +46,7 @@ fn frames_are_selected_named_and_rendered_once() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn shards_cover_every_frame_once_with_the_same_bytes() {
+pub fn shards_cover_every_frame_once_with_the_same_bytes() {
     let dir = scratch("shards");
     std::fs::write(dir.join("anim.tsd"), ANIM).unwrap();
     let r = batch(&dir, &["all/f####.ppm", "--frames", "0..9", "-q"]);
@@ -74,8 +72,7 @@ fn shards_cover_every_frame_once_with_the_same_bytes() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn skip_existing_leaves_finished_frames_alone() {
+pub fn skip_existing_leaves_finished_frames_alone() {
     let dir = scratch("skip");
     std::fs::write(dir.join("anim.tsd"), ANIM).unwrap();
     std::fs::create_dir_all(dir.join("out")).unwrap();
@@ -102,8 +99,7 @@ fn skip_existing_leaves_finished_frames_alone() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn exit_codes_tell_a_farm_what_to_retry() {
+pub fn exit_codes_tell_a_farm_what_to_retry() {
     let dir = scratch("codes");
     std::fs::write(dir.join("anim.tsd"), ANIM).unwrap();
     std::fs::write(
@@ -147,8 +143,7 @@ fn still(dir: &Path) -> &'static str {
     "still.tsd"
 }
 
-#[test]
-fn crops_merge_into_the_full_picture() {
+pub fn crops_merge_into_the_full_picture() {
     let dir = scratch("crop");
     let scene = still(&dir);
     let run = |args: &[&str]| {
@@ -184,8 +179,7 @@ fn crops_merge_into_the_full_picture() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn progressive_and_thread_count_change_no_pixel() {
+pub fn progressive_and_thread_count_change_no_pixel() {
     let dir = scratch("progressive");
     let scene = still(&dir);
     let mut outs = Vec::new();
@@ -224,8 +218,7 @@ fn progressive_and_thread_count_change_no_pixel() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn movie_is_an_animated_png_of_the_frames() {
+pub fn movie_is_an_animated_png_of_the_frames() {
     let dir = scratch("movie");
     std::fs::write(dir.join("anim.tsd"), ANIM).unwrap();
     let r = batch(&dir, &["f/f####.png", "--frames", "0..2", "-q"]);
@@ -271,11 +264,9 @@ fn movie_is_an_animated_png_of_the_frames() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn gnu_parallel_shards_match_a_single_run() {
+pub fn gnu_parallel_shards_match_a_single_run() {
     if std::process::Command::new("parallel").arg("--version").output().is_err() {
-        eprintln!("skipped: GNU parallel is not installed (apt-get install parallel)");
-        return;
+        crate::util::skip("GNU parallel is not installed (apt-get install parallel)");
     }
     let dir = scratch("parallel");
     std::fs::write(dir.join("anim.tsd"), ANIM).unwrap();
@@ -304,8 +295,7 @@ fn gnu_parallel_shards_match_a_single_run() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn a_self_rendering_script_is_not_traced_twice() {
+pub fn a_self_rendering_script_is_not_traced_twice() {
     // Issue "the first ten minutes": without an output pattern, --frames
     // writes only what the script writes; with one, the same pictures are
     // copied, not traced again.

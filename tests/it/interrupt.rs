@@ -32,8 +32,7 @@ fn wait_for_tmp(dir: &Path, child: &mut Child) {
     }
 }
 
-#[test]
-fn ctrl_c_in_a_batch_exits_130_and_leaves_no_file() {
+pub fn ctrl_c_in_a_batch_exits_130_and_leaves_no_file() {
     let dir = scratch("sigint");
     std::fs::write(dir.join("slow.tsd"), format!("{SLOW}render slow.png\n")).unwrap();
     let mut child =
@@ -50,13 +49,11 @@ fn ctrl_c_in_a_batch_exits_130_and_leaves_no_file() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn ctrl_c_in_the_repl_cancels_the_render_and_keeps_the_session() {
+pub fn ctrl_c_in_the_repl_cancels_the_render_and_keeps_the_session() {
     // The REPL needs a terminal: util-linux `script` gives it one, and a
     // ^C typed there reaches raytrace as SIGINT, as from a keyboard.
     if Command::new("script").arg("--version").output().is_err() {
-        eprintln!("skipped: `script` (util-linux) is not installed");
-        return;
+        crate::util::skip("`script` (util-linux) is not installed");
     }
     let dir = scratch("repl-sigint");
     // `script` runs its command through $SHELL -c; `exec` makes raytrace
@@ -122,8 +119,7 @@ fn ctrl_c_in_the_repl_cancels_the_render_and_keeps_the_session() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn kill_9_never_leaves_a_truncated_image() {
+pub fn kill_9_never_leaves_a_truncated_image() {
     let dir = scratch("kill9");
     // Cheap to trace, slow to write: 48 MB of PPM.
     std::fs::write(

@@ -6,11 +6,9 @@ use std::process::{Command, Stdio};
 
 use crate::util::{raytrace, root, tclsh_available, text};
 
-#[test]
-fn scripts_match_tclsh() {
+pub fn scripts_match_tclsh() {
     if !tclsh_available() {
-        println!("SKIPPED scripts_match_tclsh: tclsh is not installed (.ci/run installs it)");
-        return;
+        crate::util::skip("tclsh is not installed (.ci/run installs it)");
     }
     let dir = root().join("tests/tcl");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
@@ -61,8 +59,7 @@ fn scripts_match_tclsh() {
     );
 }
 
-#[test]
-fn errors_name_file_and_line() {
+pub fn errors_name_file_and_line() {
     let out = raytrace().arg("tests/tcl/err_unknown.tcl").current_dir(root()).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = text(&out.stderr);
@@ -81,8 +78,7 @@ fn errors_name_file_and_line() {
 /// A script much larger than the streaming window, with commands that
 /// straddle window boundaries (multi-line braces, backslash-newlines,
 /// quotes), must run exactly as the same text given with `-c`, and as tclsh.
-#[test]
-fn streaming_windows_are_invisible() {
+pub fn streaming_windows_are_invisible() {
     let mut src = String::new();
     for i in 0..6000 {
         src.push_str(&format!("set v{i} [expr {{{i} * 2}}]\n"));

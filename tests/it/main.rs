@@ -1,4 +1,9 @@
-//! The integration tests: one binary (ripgrep's layout).
+//! The integration tests: one binary (ripgrep's layout), run by
+//! libtest-mimic so that a test whose outside tool or data is absent
+//! (`tclsh`, POV-Ray, netpbm, GNU parallel, `script`, `../shared/models`)
+//! shows as ignored, with its reason, in the summary, never as passed.
+//! Every test is a `pub fn NAME()` in its module, listed below
+//! (`tidy::every_test_is_registered` checks the list).
 
 mod bad;
 mod cli;
@@ -10,3 +15,103 @@ mod pov;
 mod render;
 mod tidy;
 mod util;
+
+use libtest_mimic::{Arguments, Completion, Failed, Trial};
+
+/// Runs one test: a panic is a failure, `util::skip` an ignore with its
+/// reason.
+fn trial(name: &'static str, test: fn()) -> Trial {
+    Trial::ignorable_test(name, move || match std::panic::catch_unwind(test) {
+        Ok(()) => Ok(Completion::Completed),
+        Err(payload) => match payload.downcast::<util::Skip>() {
+            Ok(skip) => Ok(Completion::ignored_with(skip.0)),
+            Err(payload) => Err(Failed::from(panic_message(&payload))),
+        },
+    })
+}
+
+fn panic_message(payload: &Box<dyn std::any::Any + Send>) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        s.to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "panicked".into()
+    }
+}
+
+macro_rules! tests {
+    ($($path:path),* $(,)?) => {
+        vec![$(trial(stringify!($path), $path)),*]
+    };
+}
+
+fn main() {
+    // A skip is a panic with a `Skip` payload: not worth a backtrace.
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if info.payload().downcast_ref::<util::Skip>().is_none() {
+            default_hook(info);
+        }
+    }));
+    let args = Arguments::from_args();
+    let trials = tests![
+        bad::the_corpus_is_big_enough,
+        bad::every_bad_input_exits_with_a_located_message,
+        bad::the_repl_survives_every_bad_input,
+        cli::dash_c_and_stdin,
+        cli::argv_like_tclsh,
+        cli::options,
+        cli::help_lists_commands,
+        cli::no_panic_on_garbage,
+        cli::regressions_do_not_crash,
+        cli::source_returns_the_last_result,
+        cli::numbers_as_old_converters_write_them,
+        cli::errors_at_the_final_render_name_the_script,
+        cli::the_first_run_says_what_happened,
+        cli::stdin_dash_and_dash_c_with_an_output,
+        cli::the_output_is_checked_before_the_script_runs,
+        farm::frames_are_selected_named_and_rendered_once,
+        farm::shards_cover_every_frame_once_with_the_same_bytes,
+        farm::skip_existing_leaves_finished_frames_alone,
+        farm::exit_codes_tell_a_farm_what_to_retry,
+        farm::crops_merge_into_the_full_picture,
+        farm::progressive_and_thread_count_change_no_pixel,
+        farm::movie_is_an_animated_png_of_the_frames,
+        farm::gnu_parallel_shards_match_a_single_run,
+        farm::a_self_rendering_script_is_not_traced_twice,
+        interrupt::ctrl_c_in_a_batch_exits_130_and_leaves_no_file,
+        interrupt::ctrl_c_in_the_repl_cancels_the_render_and_keeps_the_session,
+        interrupt::kill_9_never_leaves_a_truncated_image,
+        lang::scripts_match_tclsh,
+        lang::errors_name_file_and_line,
+        lang::streaming_windows_are_invisible,
+        mesh::mesh_is_placed_and_lit,
+        mesh::smooth_normals_are_computed_when_missing,
+        mesh::bad_obj_files_are_located_errors,
+        mesh::bundled_bunny_loads,
+        pov::refraction_matches_povray,
+        pov::smooth_meshes_refract_the_same_whichever_way_they_are_wound,
+        render::lambert_pixel_under_parallel_light,
+        render::point_light_falls_off_as_inverse_square,
+        render::spot_light_falloff_matches_formula,
+        render::shadows_are_black_or_tinted,
+        render::mirror_shows_what_it_faces,
+        render::same_picture_for_any_thread_count,
+        render::sample_scenes_match_goldens,
+        render::output_files_pass_netpbm,
+        render::cli_renders_the_final_scene,
+        render::no_light_warns,
+        render::stats_and_heatmap,
+        render::degenerate_triangles_are_skipped_with_one_warning,
+        render::pictures_do_not_depend_on_where_the_scene_sits_or_its_scale,
+        render::coplanar_triangles_show_the_one_added_first,
+        render::coarse_smooth_meshes_have_no_shadow_terminator_notches,
+        render::pngs_say_how_their_values_are_encoded,
+        render::smooth_meshes_shade_the_same_whichever_way_they_are_wound,
+        tidy::every_module_starts_with_a_doc_comment,
+        tidy::layering_holds,
+        tidy::every_test_is_registered,
+    ];
+    libtest_mimic::run(&args, trials).exit();
+}

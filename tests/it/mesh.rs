@@ -11,8 +11,7 @@ fn temp_dir(tag: &str) -> std::path::PathBuf {
 const QUAD: &str = "# a unit quad as one polygon, plus a comment and unsupported lines\n\
 mtllib nothing.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\ng quad\nf 1/1 2/1 3/1 4/1\n";
 
-#[test]
-fn mesh_is_placed_and_lit() {
+pub fn mesh_is_placed_and_lit() {
     let dir = temp_dir("ok");
     std::fs::write(dir.join("quad.obj"), QUAD).unwrap();
     let script = "puts [mesh quad.obj -scale 2 -translate 0 0 -5]\n\
@@ -31,8 +30,7 @@ fn mesh_is_placed_and_lit() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn smooth_normals_are_computed_when_missing() {
+pub fn smooth_normals_are_computed_when_missing() {
     let dir = temp_dir("smooth");
     // A tent: two triangles meeting at a ridge along y.
     std::fs::write(dir.join("tent.obj"), "v -1 -1 0\nv 0 -1 1\nv 0 1 1\nv -1 1 0\nv 1 -1 0\nv 1 1 0\nf 1 2 3\nf 1 3 4\nf 2 5 6\nf 2 6 3\n").unwrap();
@@ -65,8 +63,7 @@ fn smooth_normals_are_computed_when_missing() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn bad_obj_files_are_located_errors() {
+pub fn bad_obj_files_are_located_errors() {
     let dir = temp_dir("bad");
     let cases: &[(&str, &str)] = &[
         ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", "bad.obj:4: bad OBJ line \"f 1 2 x\""),
@@ -109,13 +106,18 @@ fn bad_obj_files_are_located_errors() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The shared models load and render, when they are there.
-#[test]
-fn shared_bunny_loads() {
-    let bunny = crate::util::root().join("../shared/models/stanford-bunny.obj");
+/// The bunny the sample scene uses loads from the repository, compressed,
+/// with every triangle; and, when `../shared/models` is there, the plain
+/// OBJ it was compressed from gives the same count.
+pub fn bundled_bunny_loads() {
+    let root = crate::util::root();
+    let bundled = root.join("tsd/models/stanford-bunny.obj.gz");
+    let script = format!("puts [mesh {{{}}}]", bundled.display());
+    let r = raytrace().arg("-c").arg(script).output().unwrap();
+    assert_eq!(text(&r.stdout), "69451\n", "{}", text(&r.stderr));
+    let bunny = root.join("../shared/models/stanford-bunny.obj");
     if !bunny.exists() {
-        println!("SKIPPED shared_bunny_loads: {} is absent", bunny.display());
-        return;
+        crate::util::skip(format!("{} is absent (the bundled copy loaded)", bunny.display()));
     }
     let script = format!("puts [mesh {{{}}}]", bunny.display());
     let r = raytrace().arg("-c").arg(script).output().unwrap();

@@ -65,13 +65,9 @@ fn theirs(dir: &Path, name: &str) -> Vec<u8> {
     pixels(&out)
 }
 
-#[test]
-fn refraction_matches_povray() {
+pub fn refraction_matches_povray() {
     if !povray_available() {
-        println!(
-            "SKIPPED refraction_matches_povray: povray is not installed (apt-get install povray)"
-        );
-        return;
+        crate::util::skip("povray is not installed (apt-get install povray)");
     }
     let dir = scratch("pov");
     let mut report = Vec::new();
@@ -83,8 +79,7 @@ fn refraction_matches_povray() {
     println!("{}", report.join("\n"));
 }
 
-#[test]
-fn smooth_meshes_refract_the_same_whichever_way_they_are_wound() {
+pub fn smooth_meshes_refract_the_same_whichever_way_they_are_wound() {
     // With vertex normals, the normals say which side is outside: the
     // clockwise cube is the counter-clockwise one, to the byte. Without
     // normals, the winding decides (a clockwise `tri` cube is inside out).

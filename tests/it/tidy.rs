@@ -14,8 +14,7 @@ fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
     }
 }
 
-#[test]
-fn every_module_starts_with_a_doc_comment() {
+pub fn every_module_starts_with_a_doc_comment() {
     let mut files = Vec::new();
     rust_files(&root().join("src"), &mut files);
     for f in files {
@@ -25,8 +24,7 @@ fn every_module_starts_with_a_doc_comment() {
     }
 }
 
-#[test]
-fn layering_holds() {
+pub fn layering_holds() {
     // (directory, modules of the crate it must not use)
     let rules: &[(&str, &[&str])] = &[
         (
@@ -48,4 +46,31 @@ fn layering_holds() {
             }
         }
     }
+}
+
+/// Every `pub fn NAME()` in a test module is listed in `main.rs`'s
+/// `tests!`, so no test is silently left out of the run.
+pub fn every_test_is_registered() {
+    let dir = crate::util::root().join("tests/it");
+    let main = std::fs::read_to_string(dir.join("main.rs")).unwrap();
+    let mut missing = Vec::new();
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let module = path.file_stem().unwrap().to_string_lossy().into_owned();
+        if module == "main" || module == "util" {
+            continue;
+        }
+        let src = std::fs::read_to_string(&path).unwrap();
+        for line in src.lines() {
+            if let Some(rest) = line.strip_prefix("pub fn ")
+                && let Some(name) = rest.strip_suffix("() {")
+            {
+                let entry = format!("        {module}::{name},");
+                if !main.contains(&entry) {
+                    missing.push(format!("{module}::{name}"));
+                }
+            }
+        }
+    }
+    assert!(missing.is_empty(), "not in tests/it/main.rs: {missing:?}");
 }

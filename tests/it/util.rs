@@ -52,3 +52,13 @@ pub fn listing(dir: &std::path::Path) -> Vec<String> {
     v.sort();
     v
 }
+
+/// Why a test did not run: the payload of the panic `skip` raises, which
+/// the harness (`main.rs`) reports as an ignored test with this reason.
+pub struct Skip(pub String);
+
+/// Ends the current test as skipped (ignored, with `reason`, in the
+/// summary): for tests whose outside tool or data is absent.
+pub fn skip(reason: impl Into<String>) -> ! {
+    std::panic::panic_any(Skip(reason.into()))
+}
