@@ -12,6 +12,7 @@ mod interrupt;
 mod lang;
 mod mesh;
 mod pov;
+mod readme;
 mod render;
 mod tidy;
 mod util;
@@ -92,6 +93,8 @@ fn main() {
         mesh::bundled_bunny_loads,
         pov::refraction_matches_povray,
         pov::smooth_meshes_refract_the_same_whichever_way_they_are_wound,
+        readme::the_opening_example_renders_the_picture_under_it,
+        readme::first_scene_steps_render_their_pictures,
         render::lambert_pixel_under_parallel_light,
         render::point_light_falls_off_as_inverse_square,
         render::spot_light_falloff_matches_formula,
