@@ -42,6 +42,11 @@ impl Format {
     }
 }
 
+/// 8-bit linear values re-encoded with the sRGB curve (for display).
+pub fn linear_bytes_to_srgb(rgb: &[u8]) -> Vec<u8> {
+    rgb.iter().map(|&b| to_byte(b as f32 / 255.0, Encoding::Srgb)).collect()
+}
+
 fn to_byte(v: f32, enc: Encoding) -> u8 {
     let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
     let v = match enc {

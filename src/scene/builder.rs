@@ -258,6 +258,11 @@ impl Builder {
 
     /// The camera as it would render now (checks `camera_up`).
     pub fn camera(&self) -> Result<Camera, SceneError> {
+        self.camera_at(self.width, self.height)
+    }
+
+    /// The camera at another resolution (a preview's).
+    pub fn camera_at(&self, width: u32, height: u32) -> Result<Camera, SceneError> {
         let forward = match self.aim {
             Aim::Target(t) => t - self.from,
             Aim::Forward(d) => d,
@@ -269,7 +274,7 @@ impl Builder {
         }
         // In the frozen scene the eye is the origin (see `shape`).
         let forward = (forward / forward.abs().max_element()).as_vec3();
-        Camera::new(Vec3::ZERO, forward, self.up, self.angle, self.width, self.height)
+        Camera::new(Vec3::ZERO, forward, self.up, self.angle, width, height)
             .ok_or(SceneError::UpParallel(self.up, forward.normalize()))
     }
 

@@ -337,7 +337,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "trace the scene and write it (.ppm or .png); -heatmap colours pixels by BVH traversal steps, -progressive traces coarse-to-fine",
         move |interp, argv| render_command(interp, &s.borrow(), &st, argv),
     );
-    let s = scene;
+    let s = scene.clone();
     let st = state.clone();
     interp.register_host(
         "raybench",
@@ -348,10 +348,10 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
     let st = state.clone();
     interp.register_host(
         "preview",
-        "?on|off?",
-        "show renders in a window as they are traced (needs the preview feature and a display)",
+        "?on|term|off?",
+        "show renders in a window as they are traced (on: needs the preview feature and a display), or in the terminal when each finishes (term)",
         move |_, argv| {
-            check_args(argv, 1, 2, "?on|off?")?;
+            check_args(argv, 1, 2, "?on|term|off?")?;
             let fb = &mut st.borrow_mut().feedback;
             match argv.get(1).map(|v| v.as_str()) {
                 None => {}
@@ -359,13 +359,32 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
                     fb.preview = Some(super::preview::Preview::open().map_err(Exception::error)?);
                 }
                 Some("on") => {}
-                Some("off") => fb.preview = None,
+                Some("term") => fb.show_in_terminal = true,
+                Some("off") => {
+                    fb.preview = None;
+                    fb.show_in_terminal = false;
+                }
                 Some(o) => {
-                    return Err(Exception::error(format!("bad option \"{o}\": must be on or off")));
+                    return Err(Exception::error(format!(
+                        "bad option \"{o}\": must be on, term or off"
+                    )));
                 }
             }
-            Ok(Value::from(if fb.preview.is_some() { "on" } else { "off" }))
+            Ok(Value::from(match (fb.preview.is_some(), fb.show_in_terminal) {
+                (true, true) => "on term",
+                (true, false) => "on",
+                (false, true) => "term",
+                (false, false) => "off",
+            }))
         },
+    );
+    let s = scene.clone();
+    let st = state.clone();
+    interp.register_host(
+        "show",
+        "?-blocks? ?-width cells? ?fileName?",
+        "draw the last render (or an image file, or a quick preview of the scene) in the terminal: kitty, iTerm2 or sixel graphics where the terminal has them, else colour half-blocks",
+        move |interp, argv| show_command(interp, &s.borrow(), &st, argv),
     );
     interp.register_host("stats", "", "statistics of the last render", move |_, argv| {
         check_args(argv, 1, 1, "")?;
@@ -546,6 +565,11 @@ fn render_command(
         interp.write_stderr(&format!("{report}\n"))?;
     }
     st.renders += 1;
+    if st.feedback.show_in_terminal {
+        interp.flush();
+        super::term::show(&img.to_rgb8(Encoding::Srgb), img.width, img.height, Default::default())
+            .map_err(Exception::error)?;
+    }
     st.last_picture = Some(Picture { generation: b.generation, heatmap, image: img });
     st.last = Some(report);
     st.since_last = Instant::now();
@@ -636,4 +660,70 @@ fn raybench_command(
     st.last = Some(report);
     st.since_last = Instant::now();
     Ok(Value::from_list(out))
+}
+
+fn show_command(
+    interp: &mut Interp,
+    b: &Builder,
+    state: &RefCell<ShellState>,
+    argv: &[Value],
+) -> Result<Value, Exception> {
+    let usage = "show ?-blocks? ?-width cells? ?fileName?";
+    let mut opts = super::term::ShowOptions::default();
+    let mut file = None;
+    let mut args = argv[1..].iter();
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "-blocks" => opts.blocks = true,
+            "-width" => {
+                let n = args.next().ok_or_else(|| Exception::wrong_args(usage))?;
+                match n.as_str().parse::<u32>() {
+                    Ok(w @ 1..=1000) => opts.width = Some(w),
+                    _ => {
+                        return Err(Exception::error(format!(
+                            "show: -width: expected a width from 1 to 1000 cells but got \"{}\"",
+                            n.as_str()
+                        )));
+                    }
+                }
+            }
+            o if o.starts_with('-') => {
+                return Err(Exception::error(format!(
+                    "bad option \"{o}\": must be -blocks or -width"
+                )));
+            }
+            f if file.is_none() => file = Some(f.to_string()),
+            _ => return Err(Exception::wrong_args(usage)),
+        }
+    }
+    let (rgb, w, h) = match file {
+        Some(path) => {
+            let bytes = std::fs::read(&path).map_err(|e| {
+                Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
+            })?;
+            let img = crate::image::read_rgb8(&bytes)
+                .map_err(|e| Exception::error(format!("\"{path}\": {e}")))?;
+            // A PNG that says its values are linear is shown as sRGB.
+            let rgb = match img.encoding {
+                Some(Encoding::Linear) => crate::image::linear_bytes_to_srgb(&img.rgb),
+                _ => img.rgb,
+            };
+            (rgb, img.width, img.height)
+        }
+        None => match &state.borrow().last_picture {
+            Some(p) => (p.image.to_rgb8(Encoding::Srgb), p.image.width, p.image.height),
+            None => {
+                // Nothing rendered yet: a quick preview, sized to the terminal.
+                let (pw, ph) = super::term::preview_size(b.width as f64 / b.height as f64);
+                let mut scene = Scene::freeze(b).map_err(scene_err)?;
+                scene.camera = b.camera_at(pw, ph).map_err(scene_err)?;
+                let (img, _) = render::render(&scene, &render::Job::default())
+                    .ok_or_else(super::interrupted)?;
+                (img.to_rgb8(Encoding::Srgb), pw, ph)
+            }
+        },
+    };
+    interp.flush();
+    super::term::show(&rgb, w, h, opts).map_err(Exception::error)?;
+    Ok(Value::empty())
 }

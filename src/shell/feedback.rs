@@ -71,6 +71,8 @@ pub struct Feedback {
     /// Render only this part of the picture.
     pub crop: Option<Rect>,
     pub preview: Option<Preview>,
+    /// `preview term`: draw each finished render in the terminal.
+    pub show_in_terminal: bool,
     pub frame: Option<FrameInfo>,
     multi: MultiProgress,
     batch_bar: Option<ProgressBar>,
@@ -91,6 +93,7 @@ impl Feedback {
             progressive: false,
             crop: None,
             preview: None,
+            show_in_terminal: false,
             frame: None,
             multi: MultiProgress::with_draw_target(ProgressDrawTarget::stderr()),
             batch_bar: None,

@@ -16,6 +16,7 @@ pub mod obj;
 mod preview;
 pub mod repl;
 mod stats;
+mod term;
 
 use std::cell::RefCell;
 use std::io::{IsTerminal, Write};

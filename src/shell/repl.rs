@@ -1,7 +1,8 @@
 //! The interactive shell (rustyline): a `% ` prompt, history kept across
 //! sessions, continuation lines while braces, brackets or quotes are open,
-//! tab completion of command names. Errors are printed and the session
-//! (variables, procs, the scene) survives.
+//! tab completion of command names, `$variables`, subcommands, options and
+//! file names. Errors are printed (and left in `errorInfo` and `errorCode`,
+//! as tclsh does) and the session (variables, procs, the scene) survives.
 
 use std::borrow::Cow;
 use std::path::PathBuf;
@@ -18,6 +19,108 @@ use crate::interp::{Code, Interp, is_complete};
 
 struct ShellHelper {
     names: Vec<String>,
+    vars: Vec<String>,
+    files: rustyline::completion::FilenameCompleter,
+}
+
+/// Subcommands offered after these commands' names.
+const SUBCOMMANDS: &[(&str, &[&str])] = &[
+    ("array", &["exists", "get", "names", "set", "size", "unset"]),
+    ("file", &["dirname", "exists", "extension", "join", "readable", "rootname", "tail"]),
+    (
+        "info",
+        &[
+            "args", "body", "commands", "complete", "default", "exists", "globals", "level",
+            "locals", "procs", "script", "vars",
+        ],
+    ),
+    (
+        "string",
+        &[
+            "bytelength",
+            "cat",
+            "compare",
+            "equal",
+            "first",
+            "index",
+            "is",
+            "last",
+            "length",
+            "map",
+            "match",
+            "range",
+            "repeat",
+            "replace",
+            "reverse",
+            "tolower",
+            "totitle",
+            "toupper",
+            "trim",
+            "trimleft",
+            "trimright",
+            "wordend",
+            "wordstart",
+        ],
+    ),
+    ("preview", &["on", "off"]),
+];
+
+/// Options offered after these commands' names, for a word that starts
+/// with `-`.
+const OPTIONS: &[(&str, &[&str])] = &[
+    ("render", &["-heatmap", "-progressive", "-srgb"]),
+    ("mesh", &["-flat", "-scale", "-translate"]),
+    ("raybench", &["-brute", "-shadow", "-threads"]),
+];
+
+/// Commands whose arguments are file names.
+const FILE_COMMANDS: &[&str] = &["source", "mesh", "render"];
+
+/// What completing the word that ends at `pos` offers: where the word
+/// starts and the candidates. Not file names (see `ShellHelper`), which
+/// it signals with `None`.
+pub fn candidates(
+    line: &str,
+    pos: usize,
+    commands: &[String],
+    vars: &[String],
+) -> Option<(usize, Vec<String>)> {
+    let before = &line[..pos];
+    let start = before
+        .rfind(|c: char| c.is_whitespace() || matches!(c, '[' | ';' | '{' | '"'))
+        .map(|i| i + 1)
+        .unwrap_or(0);
+    let word = &before[start..];
+    // `$name`: the variables.
+    if let Some(dollar) = word.rfind('$') {
+        let name = &word[dollar + 1..];
+        let found = vars.iter().filter(|v| v.starts_with(name)).map(|v| format!("${v}"));
+        return Some((start + dollar, found.collect()));
+    }
+    // The words of the command being typed, before this one.
+    let cmd_start = before[..start].rfind(['[', ';', '\n']).map(|i| i + 1).unwrap_or(0);
+    let words: Vec<&str> = before[cmd_start..start].split_whitespace().collect();
+    let Some(&command) = words.first() else {
+        let found = commands.iter().filter(|n| n.starts_with(word)).cloned();
+        return Some((start, found.collect()));
+    };
+    let from = |list: &[&str]| -> Vec<String> {
+        list.iter().filter(|s| s.starts_with(word)).map(|s| s.to_string()).collect()
+    };
+    if word.starts_with('-')
+        && let Some((_, opts)) = OPTIONS.iter().find(|(c, _)| *c == command)
+    {
+        return Some((start, from(opts)));
+    }
+    if words.len() == 1
+        && let Some((_, subs)) = SUBCOMMANDS.iter().find(|(c, _)| *c == command)
+    {
+        return Some((start, from(subs)));
+    }
+    if FILE_COMMANDS.contains(&command) || words.last() == Some(&">") {
+        return None;
+    }
+    Some((start, Vec::new()))
 }
 
 impl Completer for ShellHelper {
@@ -27,20 +130,15 @@ impl Completer for ShellHelper {
         &self,
         line: &str,
         pos: usize,
-        _: &Context<'_>,
+        ctx: &Context<'_>,
     ) -> rustyline::Result<(usize, Vec<Pair>)> {
-        let start = line[..pos]
-            .rfind(|c: char| c.is_whitespace() || matches!(c, '[' | ';' | '{'))
-            .map(|i| i + 1)
-            .unwrap_or(0);
-        let word = &line[start..pos];
-        let pairs = self
-            .names
-            .iter()
-            .filter(|n| n.starts_with(word))
-            .map(|n| Pair { display: n.clone(), replacement: n.clone() })
-            .collect();
-        Ok((start, pairs))
+        match candidates(line, pos, &self.names, &self.vars) {
+            Some((start, found)) => Ok((
+                start,
+                found.into_iter().map(|n| Pair { display: n.clone(), replacement: n }).collect(),
+            )),
+            None => self.files.complete(line, pos, ctx),
+        }
     }
 }
 
@@ -106,7 +204,12 @@ pub fn eval_line(interp: &mut Interp, line: &str) -> Reply {
         Ok(v) => shown(&v),
         Err(e) => match e.code {
             Code::Exit(n) => Reply::Exit(n),
-            Code::Error => Reply::Error(e.message().to_string()),
+            Code::Error => {
+                // As tclsh does after an uncaught error.
+                let _ = interp.set_var("::errorInfo", crate::interp::Value::from(e.error_info()));
+                let _ = interp.set_var("::errorCode", e.error_code());
+                Reply::Error(e.message().to_string())
+            }
             Code::Return => shown(&e.value),
             Code::Break | Code::Continue => {
                 let w = if e.code == Code::Break { "break" } else { "continue" };
@@ -127,7 +230,11 @@ pub fn run(interp: &mut Interp) -> i32 {
             return 1;
         }
     };
-    rl.set_helper(Some(ShellHelper { names: Vec::new() }));
+    rl.set_helper(Some(ShellHelper {
+        names: Vec::new(),
+        vars: Vec::new(),
+        files: rustyline::completion::FilenameCompleter::new(),
+    }));
     let history = history_path();
     if let Some(h) = &history {
         let _ = rl.load_history(h);
@@ -137,6 +244,11 @@ pub fn run(interp: &mut Interp) -> i32 {
     loop {
         if let Some(h) = rl.helper_mut() {
             h.names = interp.command_names();
+            h.vars = interp
+                .eval_str("info globals")
+                .and_then(|v| v.as_list())
+                .map(|l| l.iter().map(|v| v.as_str().to_string()).collect())
+                .unwrap_or_default();
         }
         match rl.readline("% ") {
             Ok(line) => {
@@ -168,4 +280,37 @@ pub fn run(interp: &mut Interp) -> i32 {
     }
     interp.flush();
     code
+}
+
+#[cfg(test)]
+mod tests {
+    use super::candidates;
+
+    fn offer(line: &str) -> Option<(usize, Vec<String>)> {
+        let commands: Vec<String> = ["render", "rename", "sphere", "string", "source"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        let vars: Vec<String> = ["radius", "rows", "x"].iter().map(|s| s.to_string()).collect();
+        candidates(line, line.len(), &commands, &vars)
+    }
+
+    #[test]
+    fn completes_what_the_word_can_be() {
+        assert_eq!(offer("ren"), Some((0, vec!["render".into(), "rename".into()])));
+        assert_eq!(offer("sphere 0 $r"), Some((9, vec!["$radius".into(), "$rows".into()])));
+        assert_eq!(offer("puts \"at $x"), Some((9, vec!["$x".into()])));
+        assert_eq!(
+            offer("string to"),
+            Some((7, vec!["tolower".into(), "totitle".into(), "toupper".into()]))
+        );
+        assert_eq!(offer("render -s"), Some((7, vec!["-srgb".into()])));
+        assert_eq!(offer("set a [sph"), Some((7, vec!["sphere".into()])));
+        // File names: rustyline's file completer takes over.
+        assert_eq!(offer("source sc"), None);
+        assert_eq!(offer("render out"), None);
+        assert_eq!(offer("puts hi > ou"), None);
+        // Nothing sensible to offer for a plain argument.
+        assert_eq!(offer("sphere 0 "), Some((9, vec![])));
+    }
 }

@@ -225,3 +225,99 @@ pub fn the_output_is_checked_before_the_script_runs() {
     assert!(err.contains("--frames") && err.contains("--quiet"), "{err}");
     assert!(!err.contains("-- --thread"), "{err}");
 }
+
+pub fn the_repl_leaves_error_info_as_tclsh_does() {
+    // After an uncaught error, `errorInfo` holds the trace and `errorCode`
+    // the code, as tclsh sets them; the session goes on.
+    let (status, shown) = crate::util::repl_session(&[
+        "proc f {} { error boom {} {MY CODE} }",
+        "f",
+        "puts \"code=$errorCode\"",
+        "puts \"info=[lindex [split $errorInfo \\n] 0]\"",
+        "exit 4",
+    ]);
+    assert_eq!(status, Some(4), "{shown}");
+    assert!(shown.contains("code=MY CODE"), "{shown}");
+    assert!(shown.contains("info=boom"), "{shown}");
+}
+
+/// Pixels back from viuer's half-block drawing: each cell is `▄` (lower
+/// pixel in the foreground colour, upper in the background) or `▀` (upper
+/// in the foreground), colours as 24-bit SGR codes; rows end in CR LF.
+fn decode_half_blocks(out: &str) -> Vec<Vec<[u8; 3]>> {
+    let mut rows: Vec<Vec<[u8; 3]>> = Vec::new();
+    for line in out.split('\n').filter(|l| l.contains('▄') || l.contains('▀')) {
+        let (mut upper, mut lower) = (Vec::new(), Vec::new());
+        let (mut fg, mut bg) = ([0u8; 3], [0u8; 3]);
+        let mut rest = line;
+        while !rest.is_empty() {
+            if let Some(r) = rest.strip_prefix("\x1b[") {
+                let end = r.find('m').expect("an SGR code");
+                let codes: Vec<u8> = r[..end].split(';').filter_map(|c| c.parse().ok()).collect();
+                match codes[..] {
+                    [38, 2, r, g, b] => fg = [r, g, b],
+                    [48, 2, r, g, b] => bg = [r, g, b],
+                    _ => {}
+                }
+                rest = &r[end + 1..];
+            } else if let Some(r) = rest.strip_prefix('▄') {
+                upper.push(bg);
+                lower.push(fg);
+                rest = r;
+            } else if let Some(r) = rest.strip_prefix('▀') {
+                upper.push(fg);
+                lower.push(bg);
+                rest = r;
+            } else {
+                rest = &rest[rest.chars().next().unwrap().len_utf8()..];
+            }
+        }
+        rows.push(upper);
+        rows.push(lower);
+    }
+    rows
+}
+
+pub fn show_draws_the_last_render_in_half_blocks() {
+    // Issue "the first ten minutes": `show` draws the last render in the
+    // terminal; in half-block mode every cell's two colours are the two
+    // pixels (sRGB, as a viewer shows the linear file), checked by decoding
+    // the output back.
+    let dir = crate::util::scratch("show");
+    let png = dir.join("s.png");
+    let script = format!(
+        "camera_resolution 12 8; background 0.2 0.5 0.9; ambient_light 1 1 1
+         material 1 0.3 0.1 1 0 0 1 0 1; sphere 0 0 -3 0.8
+         render -srgb {{{}}}; show -blocks -width 12",
+        png.display()
+    );
+    let r = crate::util::raytrace()
+        .args(["-q", "-c", &script])
+        .env("COLORTERM", "truecolor")
+        .output()
+        .unwrap();
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let shown = decode_half_blocks(&text(&r.stdout));
+    let want = rayshell::image::read_rgb8(&std::fs::read(&png).unwrap()).unwrap();
+    assert_eq!(shown.len(), 8, "two pixel rows a line");
+    for (y, row) in shown.iter().enumerate() {
+        assert_eq!(row.len(), 12, "row {y}");
+        for (x, px) in row.iter().enumerate() {
+            let i = (y * 12 + x) * 3;
+            assert_eq!(px[..], want.rgb[i..i + 3], "pixel {x},{y}");
+        }
+    }
+    // The sphere and the background both show.
+    assert!(
+        shown.iter().flatten().any(|p| p[0] > p[2]) && shown.iter().flatten().any(|p| p[2] > p[0])
+    );
+    // A file, and a preview before any render, draw too; bad options do not.
+    let r = run(&["-c", &format!("show -blocks -width 6 {{{}}}", png.display())], "");
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    assert_eq!(decode_half_blocks(&text(&r.stdout)).first().map(|r| r.len()), Some(6));
+    let r = run(&["-c", "sphere 0 0 -3 1; ambient_light 1 1 1; show -blocks -width 10"], "");
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    assert_eq!(decode_half_blocks(&text(&r.stdout)).first().map(|r| r.len()), Some(10));
+    let r = run(&["-c", "show -bogus"], "");
+    assert_eq!(r.status.code(), Some(1));
+}

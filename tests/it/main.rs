@@ -72,6 +72,8 @@ fn main() {
         cli::the_first_run_says_what_happened,
         cli::stdin_dash_and_dash_c_with_an_output,
         cli::the_output_is_checked_before_the_script_runs,
+        cli::the_repl_leaves_error_info_as_tclsh_does,
+        cli::show_draws_the_last_render_in_half_blocks,
         farm::frames_are_selected_named_and_rendered_once,
         farm::shards_cover_every_frame_once_with_the_same_bytes,
         farm::skip_existing_leaves_finished_frames_alone,

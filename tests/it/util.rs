@@ -62,3 +62,40 @@ pub struct Skip(pub String);
 pub fn skip(reason: impl Into<String>) -> ! {
     std::panic::panic_any(Skip(reason.into()))
 }
+
+/// Runs the REPL on a terminal (util-linux `script` gives it one), types
+/// `lines`, and returns its exit status and everything the terminal and
+/// stderr showed. Skips the test when `script` is absent.
+pub fn repl_session(lines: &[&str]) -> (Option<i32>, String) {
+    use std::io::{Read, Write};
+    if Command::new("script").arg("--version").output().is_err() {
+        skip("`script` (util-linux) is not installed");
+    }
+    let dir = scratch("repl-session");
+    // `exec`: raytrace is the only process on the terminal (see the Ctrl-C
+    // test); TERM=dumb: rustyline's line mode keeps lines typed ahead.
+    let bin = format!("exec '{}'", env!("CARGO_BIN_EXE_raytrace"));
+    let mut child = Command::new("script")
+        .args(["-qfec", &bin, "/dev/null"])
+        .current_dir(&dir)
+        .env("XDG_DATA_HOME", &dir)
+        .env("TERM", "dumb")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run script");
+    let mut input = child.stdin.take().expect("stdin");
+    for line in lines {
+        writeln!(input, "{line}").expect("type a line");
+    }
+    input.flush().expect("flush");
+    let mut shown = String::new();
+    child.stdout.take().expect("stdout").read_to_string(&mut shown).expect("read the terminal");
+    let status = child.wait().expect("wait");
+    let mut err = String::new();
+    child.stderr.take().expect("stderr").read_to_string(&mut err).expect("read stderr");
+    drop(input);
+    let _ = std::fs::remove_dir_all(&dir);
+    (status.code(), shown + &err)
+}
