@@ -75,6 +75,8 @@ pub struct Feedback {
     pub show_in_terminal: bool,
     pub frame: Option<FrameInfo>,
     multi: MultiProgress,
+    /// `--progress bar` (not `auto`): bars at once, also into a file.
+    forced_bar: bool,
     batch_bar: Option<ProgressBar>,
 }
 
@@ -83,6 +85,7 @@ const BAR_DELAY: Duration = Duration::from_secs(1);
 
 impl Feedback {
     pub fn new(mode: ProgressMode) -> Feedback {
+        let forced_bar = mode == ProgressMode::Bar;
         let mode = match mode {
             ProgressMode::Auto if std::io::stderr().is_terminal() => ProgressMode::Bar,
             ProgressMode::Auto => ProgressMode::Plain,
@@ -95,8 +98,16 @@ impl Feedback {
             preview: None,
             show_in_terminal: false,
             frame: None,
-            multi: MultiProgress::with_draw_target(ProgressDrawTarget::stderr()),
+            // Asked for by name, the bar is drawn even into a file or pipe.
+            multi: MultiProgress::with_draw_target(
+                if forced_bar && !std::io::stderr().is_terminal() {
+                    ProgressDrawTarget::term_like(Box::new(Stderr))
+                } else {
+                    ProgressDrawTarget::stderr()
+                },
+            ),
             batch_bar: None,
+            forced_bar,
         }
     }
 
@@ -125,6 +136,7 @@ impl Feedback {
         let start = Instant::now();
         let mut bar: Option<ProgressBar> = None;
         let mut last_json = start;
+        let mut rate = Rate::default();
         let me = std::thread::current();
         let result = std::thread::scope(|s| {
             let worker = s.spawn(|| {
@@ -136,24 +148,26 @@ impl Feedback {
                 std::thread::park_timeout(Duration::from_millis(40));
                 let done = job.done.load(Ordering::Relaxed);
                 match self.mode {
-                    ProgressMode::Bar if bar.is_none() && start.elapsed() > BAR_DELAY => {
+                    ProgressMode::Bar
+                        if bar.is_none() && (self.forced_bar || start.elapsed() > BAR_DELAY) =>
+                    {
                         let b =
                             self.multi.add(ProgressBar::new(total).with_elapsed(start.elapsed()));
                         b.set_style(
                             ProgressStyle::with_template(
-                                "{msg} [{bar:30}] {percent:>3}% {elapsed_precise} ETA {eta}",
+                                "{prefix} [{bar:30}] {percent:>3}% {elapsed_precise} {msg}",
                             )
                             .expect("a valid template")
                             .progress_chars("=> "),
                         );
-                        b.set_message(file.to_string());
+                        b.set_prefix(file.to_string());
                         bar = Some(b);
                     }
                     ProgressMode::Json if last_json.elapsed() >= Duration::from_secs(1) => {
                         last_json = Instant::now();
                         let f = done as f64 / total as f64;
                         let elapsed = start.elapsed().as_secs_f64();
-                        let eta = if f > 0.0 { elapsed * (1.0 - f) / f } else { -1.0 };
+                        let eta = rate.eta(done, total).unwrap_or(-1.0);
                         self.line(&format!(
                             "{{\"event\":\"progress\",\"file\":{},{}\"fraction\":{f:.4},\"elapsed_s\":{elapsed:.3},\"eta_s\":{eta:.3}}}",
                             json_str(file),
@@ -162,8 +176,13 @@ impl Feedback {
                     }
                     _ => {}
                 }
+                rate.sample(start.elapsed().as_secs_f64(), done);
                 if let Some(b) = &bar {
                     b.set_position(done);
+                    b.set_message(match rate.eta(done, total) {
+                        Some(s) => format!("ETA {}", human_seconds(s)),
+                        None => "ETA ?".into(),
+                    });
                 }
                 if let (Some(p), Some(c)) = (&mut self.preview, &canvas) {
                     let pass = job.pass_done.load(Ordering::Relaxed) as u32;
@@ -308,4 +327,106 @@ pub fn json_str(s: &str) -> String {
     }
     out.push('"');
     out
+}
+
+/// The recent rate of progress: pixels done over about the last two
+/// seconds, so the ETA follows how fast the picture goes now (parts of a
+/// picture cost very different amounts), not the average since the start.
+#[derive(Default)]
+pub(crate) struct Rate {
+    /// (seconds since the start, pixels done), oldest first.
+    samples: std::collections::VecDeque<(f64, u64)>,
+}
+
+impl Rate {
+    const WINDOW: f64 = 2.0;
+
+    pub(crate) fn sample(&mut self, t: f64, done: u64) {
+        self.samples.push_back((t, done));
+        while self.samples.len() > 2 && t - self.samples[1].0 > Self::WINDOW {
+            self.samples.pop_front();
+        }
+    }
+
+    /// Seconds left at the recent rate; `None` until there is one.
+    pub(crate) fn eta(&self, done: u64, total: u64) -> Option<f64> {
+        let (&(t0, d0), &(t1, d1)) = (self.samples.front()?, self.samples.back()?);
+        if t1 - t0 < 0.2 || d1 <= d0 {
+            return None;
+        }
+        Some(total.saturating_sub(done) as f64 * (t1 - t0) / (d1 - d0) as f64)
+    }
+}
+
+fn human_seconds(s: f64) -> String {
+    match s {
+        s if s < 10.0 => format!("{s:.1}s"),
+        s if s < 60.0 => format!("{s:.0}s"),
+        s if s < 3600.0 => format!("{}m{:02.0}s", (s / 60.0) as u64, s % 60.0),
+        s => format!("{}h{:02}m", (s / 3600.0) as u64, ((s % 3600.0) / 60.0) as u64),
+    }
+}
+
+/// Standard error as indicatif's terminal, for a bar asked for by name
+/// when standard error is not a terminal (a log file still shows it).
+#[derive(Debug)]
+struct Stderr;
+
+impl indicatif::TermLike for Stderr {
+    fn width(&self) -> u16 {
+        100
+    }
+    fn move_cursor_up(&self, _: usize) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn move_cursor_down(&self, _: usize) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn move_cursor_right(&self, _: usize) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn move_cursor_left(&self, _: usize) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn write_line(&self, s: &str) -> std::io::Result<()> {
+        use std::io::Write;
+        writeln!(std::io::stderr(), "{s}")
+    }
+    fn write_str(&self, s: &str) -> std::io::Result<()> {
+        use std::io::Write;
+        write!(std::io::stderr(), "{s}")
+    }
+    fn clear_line(&self) -> std::io::Result<()> {
+        use std::io::Write;
+        write!(std::io::stderr(), "\r")
+    }
+    fn flush(&self) -> std::io::Result<()> {
+        use std::io::Write;
+        std::io::stderr().flush()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Rate;
+
+    #[test]
+    fn eta_follows_the_recent_rate() {
+        // Slow for 4 s (10 px/s), then fast (100 px/s): half-way through a
+        // 1,000-pixel picture the ETA is what the fast rate needs, not the
+        // average since the start.
+        let mut r = Rate::default();
+        let mut done = 0;
+        for k in 0..=40 {
+            done = k * 1;
+            r.sample(k as f64 * 0.1, done);
+        }
+        for k in 1..=30 {
+            done = 40 + k * 10;
+            r.sample(4.0 + k as f64 * 0.1, done);
+        }
+        let eta = r.eta(done, 1000).unwrap();
+        assert!((eta - (1000 - done) as f64 / 100.0).abs() < 0.5, "{eta}");
+        assert_eq!(Rate::default().eta(0, 10), None);
+    }
 }

@@ -444,7 +444,7 @@ fn run(cli: Cli) -> i32 {
                 let end = std::fs::read(path).map(|b| last_line(&b)).unwrap_or(1);
                 (r, Some(path_str), end)
             }
-            None if std::io::stdin().is_terminal() => return repl::run(&mut interp),
+            None if std::io::stdin().is_terminal() => return repl::run(&mut interp, &state),
             // No script, or `-`: the script is standard input.
             _ => {
                 set_argv(&mut interp, "raytrace", &cli.args);

@@ -219,8 +219,9 @@ pub fn eval_line(interp: &mut Interp, line: &str) -> Reply {
     }
 }
 
-/// Runs the REPL until Ctrl-D or `exit`; returns the exit code.
-pub fn run(interp: &mut Interp) -> i32 {
+/// Runs the REPL until Ctrl-D or `exit`; returns the exit code. Time spent
+/// waiting for typing is left out of `state`'s parse time.
+pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellState>) -> i32 {
     let config =
         rustyline::Config::builder().completion_type(rustyline::CompletionType::List).build();
     let mut rl: Editor<ShellHelper, DefaultHistory> = match Editor::with_config(config) {
@@ -250,7 +251,10 @@ pub fn run(interp: &mut Interp) -> i32 {
                 .map(|l| l.iter().map(|v| v.as_str().to_string()).collect())
                 .unwrap_or_default();
         }
-        match rl.readline("% ") {
+        let waiting = std::time::Instant::now();
+        let read = rl.readline("% ");
+        state.borrow_mut().since_last += waiting.elapsed();
+        match read {
             Ok(line) => {
                 if line.trim().is_empty() {
                     continue;

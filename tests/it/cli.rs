@@ -321,3 +321,44 @@ pub fn show_draws_the_last_render_in_half_blocks() {
     let r = run(&["-c", "show -bogus"], "");
     assert_eq!(r.status.code(), Some(1));
 }
+
+pub fn a_bar_asked_for_is_drawn_into_a_pipe() {
+    // `--progress bar` draws the bar even when stderr is not a terminal
+    // (the default, `auto`, draws none there), with an ETA from the
+    // recent rate.
+    let dir = crate::util::scratch("bar");
+    let script = format!(
+        "source {{{}}}; camera_resolution 900 700; render -progressive out.png",
+        crate::util::root().join("tsd/spheres.tsd").display()
+    );
+    let r = crate::util::raytrace()
+        .args(["--progress", "bar", "-c", &script])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let err = text(&r.stderr);
+    assert!(err.contains("out.png [") && err.contains("%"), "no bar: {err}");
+    assert!(err.contains("ETA"), "{err}");
+    let r = crate::util::raytrace().args(["-c", &script]).current_dir(&dir).output().unwrap();
+    assert!(!text(&r.stderr).contains("out.png ["), "auto mode drew a bar into a pipe");
+}
+
+pub fn repl_stats_leave_out_the_time_spent_typing() {
+    // `stats` reports "parse" time: running the script up to the render,
+    // not the 1.5 s the user took to type the next line.
+    let (status, shown) = crate::util::repl_session(&[
+        "camera_resolution 8 8; sphere 0 0 -3 1",
+        "#pause 1500",
+        "render x.png",
+        "puts \"parse=[lindex [split [stats] \\n] 0]\"",
+        "exit 5",
+    ]);
+    assert_eq!(status, Some(5), "{shown}");
+    let line = shown
+        .lines()
+        .find_map(|l| l.split_once("parse=parse").map(|(_, r)| r))
+        .unwrap_or_else(|| panic!("{shown}"));
+    let secs: f64 = line.split_whitespace().next().and_then(|s| s.parse().ok()).expect(line);
+    assert!(secs < 1.0, "parse time {secs} s includes the pause: {shown}");
+}

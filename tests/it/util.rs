@@ -64,7 +64,7 @@ pub fn skip(reason: impl Into<String>) -> ! {
 }
 
 /// Runs the REPL on a terminal (util-linux `script` gives it one), types
-/// `lines`, and returns its exit status and everything the terminal and
+/// `lines` (a line `#pause MS` waits instead), and returns its exit status and everything the terminal and
 /// stderr showed. Skips the test when `script` is absent.
 pub fn repl_session(lines: &[&str]) -> (Option<i32>, String) {
     use std::io::{Read, Write};
@@ -87,6 +87,12 @@ pub fn repl_session(lines: &[&str]) -> (Option<i32>, String) {
         .expect("run script");
     let mut input = child.stdin.take().expect("stdin");
     for line in lines {
+        // `#pause MS`: wait before typing on, as a person would.
+        if let Some(ms) = line.strip_prefix("#pause ") {
+            input.flush().expect("flush");
+            std::thread::sleep(std::time::Duration::from_millis(ms.parse().expect("ms")));
+            continue;
+        }
         writeln!(input, "{line}").expect("type a line");
     }
     input.flush().expect("flush");
