@@ -418,7 +418,7 @@ mod tests {
         let mut r = Rate::default();
         let mut done = 0;
         for k in 0..=40 {
-            done = k * 1;
+            done = k;
             r.sample(k as f64 * 0.1, done);
         }
         for k in 1..=30 {
