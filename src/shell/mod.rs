@@ -10,6 +10,7 @@
 
 mod args;
 mod commands;
+pub mod docs;
 mod feedback;
 mod frames;
 pub mod obj;
@@ -229,10 +230,18 @@ fn file_command(argv: &[Value]) -> Result<Value, Exception> {
 
 pub fn help_text(interp: &Interp, name: Option<&str>) -> Result<String, Exception> {
     match name {
-        Some(n) => match interp.help(n) {
-            Some((usage, summary)) => Ok(format!("{n} {usage}\n    {summary}")),
-            None if interp.has_command(n) => Ok(format!("{n}: a procedure")),
-            None => Err(Exception::error(format!("no help for \"{n}\": no such command"))),
+        Some(n) => match (interp.help(n), docs::find(n)) {
+            (Some((usage, _)), Some(doc)) => {
+                let mut out = format!("{n} {usage}\n    {}", doc.meaning);
+                if !doc.default.is_empty() {
+                    out.push_str(&format!("\n    default: {}", doc.default));
+                }
+                out.push_str(&format!("\n    example: {}", doc.example));
+                Ok(out)
+            }
+            (Some((usage, summary)), None) => Ok(format!("{n} {usage}\n    {summary}")),
+            (None, _) if interp.has_command(n) => Ok(format!("{n}: a procedure")),
+            (None, _) => Err(Exception::error(format!("no help for \"{n}\": no such command"))),
         },
         None => {
             let names = interp.help_names();

@@ -99,6 +99,8 @@ fn main() {
         pov::smooth_meshes_refract_the_same_whichever_way_they_are_wound,
         readme::the_opening_example_renders_the_picture_under_it,
         readme::first_scene_steps_render_their_pictures,
+        readme::the_command_table_is_the_help_text,
+        readme::help_shows_a_whole_entry,
         render::lambert_pixel_under_parallel_light,
         render::point_light_falls_off_as_inverse_square,
         render::spot_light_falloff_matches_formula,

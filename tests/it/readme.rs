@@ -90,3 +90,54 @@ pub fn first_scene_steps_render_their_pictures() {
         check_picture(&out, image);
     }
 }
+
+/// The README's table of scene commands, as `help` would write it: usage
+/// from each command's registration, meaning and default from
+/// `shell::docs` (one source for both).
+fn command_table() -> String {
+    let session = rayshell::shell::Session::new(Box::new(rayshell::shell::CaptureHost::default()));
+    let mut rows =
+        vec!["| command | meaning | default |".to_string(), "| --- | --- | --- |".into()];
+    for doc in rayshell::shell::docs::SCENE {
+        let (usage, _) = session.interp.help(doc.name).expect("a registered scene command");
+        let usage = format!("{} {usage}", doc.name).trim().replace('|', "\\|");
+        let default =
+            if doc.default.is_empty() { String::new() } else { format!("`{}`", doc.default) };
+        rows.push(format!("| `{usage}` | {} | {default} |", doc.meaning.replace('|', "\\|")));
+    }
+    rows.join("\n")
+}
+
+pub fn the_command_table_is_the_help_text() {
+    let doc = readme();
+    let start = doc.find("| command | meaning | default |").expect("the scene command table");
+    let end = start + doc[start..].find("\n\n").expect("the table's end");
+    let want = command_table();
+    if std::env::var_os("UPDATE_EXPECT").is_some() {
+        let updated = format!("{}{want}{}", &doc[..start], &doc[end..]);
+        std::fs::write(root().join("README.md"), updated).unwrap();
+        return;
+    }
+    let got = &doc[start..end];
+    if got != want {
+        let first = got.lines().zip(want.lines()).find(|(a, b)| a != b);
+        panic!(
+            "the README's command table differs from `help` (UPDATE_EXPECT=1 rewrites it); first difference:\n{first:?}"
+        );
+    }
+}
+
+pub fn help_shows_a_whole_entry() {
+    let mut session =
+        rayshell::shell::Session::new(Box::new(rayshell::shell::CaptureHost::default()));
+    let text = session.interp.eval_str("help material").unwrap();
+    let text = text.as_str();
+    assert!(text.starts_with("material r g b Ka Kd Ks n_s T index_of_refraction\n"), "{text}");
+    assert!(text.contains("Phong exponent"), "{text}");
+    assert!(text.contains("default: 1 1 1  0.2 0.8 0 1 0 1"), "{text}");
+    assert!(text.contains("example: material "), "{text}");
+    // Every scene command documented is a command.
+    for doc in rayshell::shell::docs::SCENE {
+        assert!(session.interp.has_command(doc.name), "{}", doc.name);
+    }
+}

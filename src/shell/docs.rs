@@ -1,0 +1,191 @@
+//! The scene commands' documentation: what `help NAME` shows (the usage
+//! comes from the command's registration) and, in the same order, the
+//! README's table of scene commands, which a test regenerates from this
+//! one source (`readme::the_command_table_is_the_help_text`).
+
+/// One scene command's entry.
+pub struct Doc {
+    pub name: &'static str,
+    /// What it does: one sentence or a few, Markdown code in backticks.
+    pub meaning: &'static str,
+    /// Its value before any call (state commands), or "".
+    pub default: &'static str,
+    pub example: &'static str,
+}
+
+/// The scene commands, in the README's order.
+pub const SCENE: &[Doc] = &[
+    Doc {
+        name: "camera_from",
+        meaning: "the eye point",
+        default: "0 0 0",
+        example: "camera_from 0 2 6",
+    },
+    Doc {
+        name: "camera_target",
+        meaning: "the point looked at (the later of this and `camera_forw` wins)",
+        default: "0 0 -1",
+        example: "camera_target 0 0.5 0",
+    },
+    Doc {
+        name: "camera_forw",
+        meaning: "the direction looked along (instead of at `camera_target`)",
+        default: "",
+        example: "camera_forw 0 -0.3 -1",
+    },
+    Doc {
+        name: "camera_up",
+        meaning: "up; made orthogonal to the view direction; parallel to it is an error at `render`, which names the `render` line (or the script's last line for `raytrace scene.tsd out.png`) and both vectors",
+        default: "0 1 0",
+        example: "camera_up 0 0 1",
+    },
+    Doc {
+        name: "camera_angle",
+        meaning: "degrees from the left edge of the image to the right edge; the vertical angle follows from the aspect",
+        default: "45",
+        example: "camera_angle 60",
+    },
+    Doc {
+        name: "camera_resolution",
+        meaning: "image size; at most 64 Mpixel (larger is refused with the memory it would need)",
+        default: "256 256",
+        example: "camera_resolution 640 480",
+    },
+    Doc {
+        name: "vertex",
+        meaning: "add a vertex; returns its index (from 0)",
+        default: "",
+        example: "set a [vertex 0 0 0]",
+    },
+    Doc {
+        name: "normal",
+        meaning: "add a normal (normalized); returns its index (from 0)",
+        default: "",
+        example: "set n [normal 0 1 0]",
+    },
+    Doc {
+        name: "tri",
+        meaning: "flat triangle; its counter-clockwise side is outside (for refraction); zero-area triangles are skipped with one warning at `render`",
+        default: "",
+        example: "tri $a $b $c",
+    },
+    Doc {
+        name: "ntri",
+        meaning: "triangle with normals interpolated across it; the normals say which side is outside, whatever the winding",
+        default: "",
+        example: "ntri $a $na $b $nb $c $nc",
+    },
+    Doc {
+        name: "sphere",
+        meaning: "a sphere; `radius` must be positive",
+        default: "",
+        example: "sphere 0 1 0 0.5",
+    },
+    Doc {
+        name: "max_vertices",
+        meaning: "a capacity hint for the vertex pool; using more is still correct",
+        default: "",
+        example: "max_vertices 100000",
+    },
+    Doc {
+        name: "max_normals",
+        meaning: "a capacity hint for the normal pool; using more is still correct",
+        default: "",
+        example: "max_normals 100000",
+    },
+    Doc {
+        name: "background",
+        meaning: "colour of rays that hit nothing (colours are 0..1 floats, not negative)",
+        default: "0 0 0",
+        example: "background 0.2 0.3 0.5",
+    },
+    Doc {
+        name: "ambient_light",
+        meaning: "the ambient light; a later call replaces it",
+        default: "0 0 0",
+        example: "ambient_light 0.1 0.1 0.1",
+    },
+    Doc {
+        name: "parallel_light",
+        meaning: "infinitely far light travelling along (x, y, z)",
+        default: "",
+        example: "parallel_light 1 1 1  0.5 -1 -0.3",
+    },
+    Doc {
+        name: "point_light",
+        meaning: "light at (x, y, z); arriving light falls off as 1/r²",
+        default: "",
+        example: "point_light 20 20 20  -3 6 4",
+    },
+    Doc {
+        name: "spot_light",
+        meaning: "at p shining along n: a point light within `angle1` degrees of the axis, fading linearly (in angle) to nothing at `angle2`",
+        default: "",
+        example: "spot_light 40 40 40  0 5 0  0 -1 0  15 25",
+    },
+    Doc {
+        name: "material",
+        meaning: "colour, ambient, diffuse, specular, Phong exponent, transmittance, index of refraction (an ior of 0 is accepted when T is 0, as SPD-style opaque scenes write it)",
+        default: "1 1 1  0.2 0.8 0 1 0 1",
+        example: "material 0.9 0.3 0.2  0.2 0.7 0.3 50 0 1",
+    },
+    Doc {
+        name: "trace_depth",
+        meaning: "the most bounces a ray makes, 0..64",
+        default: "5",
+        example: "trace_depth 8",
+    },
+    Doc {
+        name: "render",
+        meaning: "trace and write `.ppm` (binary P6, maxval 255) or `.png`; `-heatmap` writes the cost picture instead: each pixel coloured by the BVH traversal steps its primary ray took, nodes entered plus leaf blocks of four primitives tested (black, blue, red, yellow, white at the most)",
+        default: "",
+        example: "render -srgb out.png",
+    },
+    Doc {
+        name: "mesh",
+        meaning: "add an OBJ mesh (read with tobj; a name ending in `.gz` is read as gzip-compressed OBJ) with the current material, scaled then moved; polygons are triangulated; smooth normals from `vn`, or computed from the faces (area-weighted) when the file has none; `-flat` turns smoothing off; returns the triangle count (its vertices keep out of the `vertex` pool, so `vertex` numbering is unaffected). A bad file is an error naming its line (`bunny.obj:12: bad OBJ line \"f 1 2 x\"`)",
+        default: "",
+        example: "mesh bunny.obj.gz -scale 6 -translate 0 -0.2 0",
+    },
+    Doc {
+        name: "scene_bounds",
+        meaning: "the bounding box of all geometry: `xmin ymin zmin xmax ymax zmax`",
+        default: "",
+        example: "lassign [scene_bounds] x0 y0 z0 x1 y1 z1",
+    },
+    Doc {
+        name: "raybench",
+        meaning: "trace one primary ray per pixel (and one shadow ray per hit towards the first light) without shading; returns `primary_mrays_per_s ... shadow_mrays_per_s ... build_ms ... primitives ... bvh_nodes ... bytes_per_triangle ... bvh_steps_per_ray ...`; `-brute` adds `brute_mrays_per_s`, primary rays that test every primitive (on a spread subset of the pixels), the baseline the BVH is measured against; `-threads` traces on a pool of that many threads (1 to 256), so one process can time one and two threads in turn",
+        default: "",
+        example: "raybench -shadow -threads 1",
+    },
+    Doc {
+        name: "preview",
+        meaning: "`on`: the live preview window (needs the `preview` feature and a display); `term`: draw each finished render in the terminal; `off`: neither",
+        default: "",
+        example: "preview term",
+    },
+    Doc {
+        name: "show",
+        meaning: "draw the last render (or `fileName`, or a quick preview of the scene before any render) in the terminal: kitty, iTerm2 or sixel graphics where the terminal has them, else 24-bit half-blocks sized to its width (`-width` to choose, `-blocks` to force them)",
+        default: "",
+        example: "show -width 60",
+    },
+    Doc {
+        name: "stats",
+        meaning: "the statistics of the last render (see `--stats`)",
+        default: "",
+        example: "puts [stats]",
+    },
+    Doc {
+        name: "clear_scene",
+        meaning: "back to the initial state",
+        default: "",
+        example: "clear_scene",
+    },
+];
+
+/// The entry for `name`, if it is a scene command.
+pub fn find(name: &str) -> Option<&'static Doc> {
+    SCENE.iter().find(|d| d.name == name)
+}
