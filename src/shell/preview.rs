@@ -38,6 +38,27 @@ fn to_rgb32(pixels: &[Vec3], width: u32, height: u32, pass: u32, progressive: bo
     out
 }
 
+/// The largest window the preview opens (a common laptop screen, less its
+/// frame): larger pictures are shown shrunk by a whole factor.
+const MAX_WINDOW: (u32, u32) = (1280, 760);
+
+#[cfg_attr(not(feature = "preview"), allow(dead_code))]
+fn shrink_factor(width: u32, height: u32) -> u32 {
+    width.div_ceil(MAX_WINDOW.0).max(height.div_ceil(MAX_WINDOW.1)).max(1)
+}
+
+/// Every `k`th pixel of every `k`th row.
+#[cfg_attr(not(feature = "preview"), allow(dead_code))]
+fn shrink(rgb: &[u32], width: u32, height: u32, k: u32) -> Vec<u32> {
+    if k == 1 {
+        return rgb.to_vec();
+    }
+    (0..height)
+        .step_by(k as usize)
+        .flat_map(|y| (0..width).step_by(k as usize).map(move |x| rgb[(y * width + x) as usize]))
+        .collect()
+}
+
 #[cfg(feature = "preview")]
 pub struct Preview {
     window: Option<minifb::Window>,
@@ -46,26 +67,36 @@ pub struct Preview {
 
 #[cfg(feature = "preview")]
 impl Preview {
+    /// Opens the window now, so an unreachable display is an error here
+    /// (`DISPLAY=:99` with no server there), not a window that never shows.
     pub fn open() -> Result<Preview, String> {
         if let Some(why) = unavailable() {
             return Err(why);
         }
-        Ok(Preview { window: None, size: (0, 0) })
+        let window = minifb::Window::new("rayshell", 320, 240, minifb::WindowOptions::default())
+            .map_err(|e| {
+                let display = std::env::var("DISPLAY").unwrap_or_default();
+                format!("couldn't open a preview window on display \"{display}\": {e}")
+            })?;
+        Ok(Preview { window: Some(window), size: (320, 240) })
     }
 
     pub fn show(&mut self, pixels: &[Vec3], width: u32, height: u32, pass: u32, progressive: bool) {
-        if self.size != (width, height) || !self.window.as_ref().is_some_and(|w| w.is_open()) {
+        // A picture larger than the screen is shown scaled down to fit.
+        let k = shrink_factor(width, height);
+        let (w, h) = (width.div_ceil(k), height.div_ceil(k));
+        if self.size != (w, h) || !self.window.as_ref().is_some_and(|w| w.is_open()) {
             let opts = minifb::WindowOptions {
-                scale: if width.max(height) < 400 { minifb::Scale::X2 } else { minifb::Scale::X1 },
+                scale: if w.max(h) < 400 { minifb::Scale::X2 } else { minifb::Scale::X1 },
                 ..minifb::WindowOptions::default()
             };
-            self.window =
-                minifb::Window::new("rayshell", width as usize, height as usize, opts).ok();
-            self.size = (width, height);
+            self.window = minifb::Window::new("rayshell", w as usize, h as usize, opts).ok();
+            self.size = (w, h);
         }
-        if let Some(w) = &mut self.window {
-            let buf = to_rgb32(pixels, width, height, pass, progressive);
-            let _ = w.update_with_buffer(&buf, width as usize, height as usize);
+        if let Some(win) = &mut self.window {
+            let full = to_rgb32(pixels, width, height, pass, progressive);
+            let buf = shrink(&full, width, height, k);
+            let _ = win.update_with_buffer(&buf, w as usize, h as usize);
         }
     }
 }
@@ -95,5 +126,14 @@ mod tests {
         assert_eq!(out[4], 0xffffff); // (0, 1) shows (0, 0)
         assert_eq!(out[2], 0); // (2, 0) anchors its own block
         assert_eq!(to_rgb32(&px, 4, 4, 1, false)[1], 0);
+    }
+
+    #[test]
+    fn pictures_larger_than_the_screen_shrink_to_fit() {
+        assert_eq!(shrink_factor(640, 480), 1);
+        assert_eq!(shrink_factor(3000, 2000), 3);
+        let rgb: Vec<u32> = (0..25).collect();
+        assert_eq!(shrink(&rgb, 5, 5, 2), vec![0, 2, 4, 10, 12, 14, 20, 22, 24]);
+        assert_eq!(shrink(&rgb, 5, 5, 1).len(), 25);
     }
 }
