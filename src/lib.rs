@@ -22,10 +22,12 @@
 //! - `image`: the linear f32 image, PPM and PNG writers and readers (with a
 //!   crop's placement).
 //! - `shell`: the glue and the only module that touches files, the terminal,
-//!   signals, the environment and exit codes: arguments, the REPL, the scene
-//!   commands (`commands`), OBJ loading, atomic files, statistics, progress
-//!   bars and Ctrl-C (`feedback`), the preview window (`preview`), animation
-//!   batches, merges and movies (`frames`).
+//!   signals, the environment and exit codes: arguments, the REPL (with
+//!   completion), the scene commands (`commands`) and their documentation
+//!   (`docs`, also the README's table), OBJ loading (plain or gzip), atomic
+//!   files, statistics and the last picture (`stats`), progress bars, ETA
+//!   and Ctrl-C (`feedback`), the preview window (`preview`), pictures in
+//!   the terminal (`term`), animation batches, merges and movies (`frames`).
 //!
 //! # Invariants
 //!

@@ -269,12 +269,6 @@ pub fn report_error(interp: &mut Interp, e: &Exception) {
     let _ = interp.write_stderr(&text);
 }
 
-/// Runs a script file or string as the main program. Returns the exit code.
-pub fn run_main_script(interp: &mut Interp, src: &str, file: Option<&str>) -> i32 {
-    let r = interp.eval_source(src, file);
-    finish(interp, r)
-}
-
 /// The number of the last line of a script (where the render that follows
 /// it is said to happen).
 pub(crate) fn last_line(src: &[u8]) -> u32 {
@@ -430,7 +424,7 @@ fn run(cli: Cli) -> i32 {
     let mut interp = session.interp;
     let (r, file, end) = if let Some(cmd) = &cli.command {
         set_argv(&mut interp, "raytrace", &cli.args);
-        (interp.eval_source(cmd, None), None, last_line(cmd.as_bytes()))
+        (interp.eval_source(cmd, None), None, None)
     } else {
         match &cli.script {
             Some(path) if path.as_os_str() != "-" => {
@@ -450,15 +444,14 @@ fn run(cli: Cli) -> i32 {
                     }
                 };
                 let r = interp.eval_reader(Some(&path_str), &mut f);
-                let end = std::fs::read(path).map(|b| last_line(&b)).unwrap_or(1);
-                (r, Some(path_str), end)
+                (r, Some(path_str), None)
             }
             None if std::io::stdin().is_terminal() => return repl::run(&mut interp, &state),
             // No script, or `-`: the script is standard input.
             _ => {
                 set_argv(&mut interp, "raytrace", &cli.args);
                 let r = interp.eval_reader(Some("stdin"), &mut std::io::stdin());
-                (r, Some("stdin".to_string()), 1)
+                (r, Some("stdin".to_string()), Some(1))
             }
         }
     };
@@ -466,13 +459,19 @@ fn run(cli: Cli) -> i32 {
         (Ok(_), Some(out)) => {
             let argv = [Value::from("render"), Value::from(out.to_string_lossy().as_ref())];
             interp.invoke(&argv).map_err(|e| match &file {
-                Some(f) => at_end_of(e, f, end),
+                // The script's last line (read again only for the message).
+                Some(f) => {
+                    let line =
+                        end.unwrap_or_else(|| std::fs::read(f).map(|b| last_line(&b)).unwrap_or(1));
+                    at_end_of(e, f, line)
+                }
                 None => e,
             })
         }
         (r, _) => r,
     };
-    if r.is_ok() && output.is_none() && state.borrow().renders == 0 {
+    let quiet = cli.quiet || cli.progress == ProgressMode::None;
+    if r.is_ok() && output.is_none() && state.borrow().renders == 0 && !quiet {
         let b = scene.borrow();
         if !b.prims.is_empty() || !b.lights.is_empty() {
             let name = file.as_deref().unwrap_or("the script");

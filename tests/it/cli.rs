@@ -183,6 +183,8 @@ pub fn the_first_run_says_what_happened() {
     let r = run(&["-c", "sphere 0 0 -3 1"], "");
     assert_eq!(r.status.code(), Some(0));
     assert!(text(&r.stderr).contains("rendered nothing"), "{}", text(&r.stderr));
+    let r = run(&["-q", "-c", "sphere 0 0 -3 1"], "");
+    assert_eq!(text(&r.stderr), "", "--quiet is quiet");
     // Pure Tcl is not a scene: nothing to say.
     let r = run(&["-c", "puts hi"], "");
     assert_eq!(text(&r.stderr), "");
