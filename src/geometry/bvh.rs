@@ -409,7 +409,8 @@ impl Bvh {
         t_max: &mut f32,
         leaf: impl FnMut(&[Block], &[Block], &mut f32) -> bool,
     ) -> u32 {
-        if self.nodes.is_empty() {
+        // A non-finite ray is never walked: its slab tests would be NaN.
+        if self.nodes.is_empty() || !(ray.origin.is_finite() && ray.dir.is_finite()) {
             return 0;
         }
         // The thread's stack, reused from ray to ray (taken out while in
@@ -466,13 +467,21 @@ impl Bvh {
                     if mask == 0 {
                         // Two: go to the nearer, keep the farther.
                         let (near, far) = if b.t < a.t { (b, a) } else { (a, b) };
+                        if stack.len() > 3 * self.depth + 4 {
+                            return steps;
+                        }
                         stack.push(far);
                         current = near;
                         continue;
                     }
                     // More: push them all, keeping that part of the stack
-                    // sorted farthest first, and take the nearest.
+                    // sorted farthest first, and take the nearest. (A walk
+                    // never holds more than three entries a level; more
+                    // would mean a broken tree or ray: stop.)
                     let base = stack.len();
+                    if base > 3 * self.depth + 4 {
+                        return steps;
+                    }
                     push_sorted(stack, base, a);
                     push_sorted(stack, base, b);
                     while mask != 0 {

@@ -31,6 +31,13 @@ use crate::scene::Scene;
 /// A ray whose contribution to its pixel is below this is not traced.
 const MIN_WEIGHT: f32 = 1.0 / 1024.0;
 
+/// The most rays one pixel's ray tree may cast (shadow rays included):
+/// a scene whose surfaces both reflect and transmit everything (`Ks + T`
+/// ≥ 1) doubles its rays at every bounce, 2⁶⁴ at `trace_depth 64`. Past
+/// the limit, branches add nothing more. A Whitted pixel of a sane scene
+/// casts tens of rays.
+pub const MAX_RAYS_PER_PIXEL: u64 = 10_000;
+
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RayStats {
     pub primary: u64,
@@ -38,6 +45,9 @@ pub struct RayStats {
     pub reflected: u64,
     pub refracted: u64,
     pub bvh_steps: u64,
+    /// The ray count (`total`) at which the current pixel's tree stops
+    /// branching; 0: no limit.
+    pub limit: u64,
 }
 
 impl RayStats {
@@ -48,6 +58,7 @@ impl RayStats {
             reflected: self.reflected + o.reflected,
             refracted: self.refracted + o.refracted,
             bvh_steps: self.bvh_steps + o.bvh_steps,
+            limit: 0,
         }
     }
 
@@ -147,6 +158,7 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     };
     let stats = per_pixel(cam.width, cam.height, job, out, |x, y, st| {
         st.primary += 1;
+        st.limit = st.total() + MAX_RAYS_PER_PIXEL;
         trace(scene, &cam.ray(x, y), 0, 1.0, Media::default(), st)
     })?;
     let pixels = out.lock().unwrap_or_else(|e| e.into_inner()).clone();
@@ -265,6 +277,14 @@ pub fn trace(
     media: Media,
     st: &mut RayStats,
 ) -> Vec3 {
+    // A ray with a non-finite origin or direction (a degenerate surface,
+    // an extreme index of refraction) sees nothing; so does one past the
+    // pixel's budget.
+    if !(ray.origin.is_finite() && ray.dir.is_finite() && ray.dir != Vec3::ZERO)
+        || (st.limit != 0 && st.total() >= st.limit)
+    {
+        return Vec3::ZERO;
+    }
     let (hit, steps) = scene.bvh.intersect(ray, 0.0, f32::INFINITY);
     st.bvh_steps += steps as u64;
     match hit {

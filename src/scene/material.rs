@@ -4,6 +4,10 @@ use glam::Vec3;
 
 use super::builder::{SceneError, check_color};
 
+/// The range `material` accepts for an index of refraction (0 aside).
+pub const MIN_IOR: f32 = 0.01;
+pub const MAX_IOR: f32 = 100.0;
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
     pub color: Vec3,
@@ -42,6 +46,14 @@ impl Material {
         if !self.ior.is_finite() || self.ior < 0.0 || (self.t > 0.0 && self.ior == 0.0) {
             return Err(SceneError::Invalid(format!(
                 "index of refraction must be positive (or 0 when T is 0), got {}",
+                self.ior
+            )));
+        }
+        // Real materials lie between about 1 and 4; far outside, refraction
+        // only makes degenerate rays.
+        if self.ior != 0.0 && !(MIN_IOR..=MAX_IOR).contains(&self.ior) {
+            return Err(SceneError::Invalid(format!(
+                "index of refraction must be between {MIN_IOR} and {MAX_IOR}, got {:?}",
                 self.ior
             )));
         }

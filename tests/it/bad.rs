@@ -247,6 +247,12 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         "index of refraction must be positive (or 0 when T is 0), got 0",
     ),
     (
+        "material huge ior",
+        "material 1 1 1 0.2 0.8 0 1 0.9 1e38",
+        1,
+        "index of refraction must be between 0.01 and 100, got 1e38",
+    ),
+    (
         "material negative ior",
         "material 1 1 1 0 1 0 1 0 -1",
         1,
@@ -524,5 +530,46 @@ pub fn the_repl_survives_every_bad_input() {
     })
     .unwrap();
     assert!(dir.join("after.ppm").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Renders that once aborted or ran for ever, run through the binary under
+/// a 4 GB address-space cap (`prlimit --as`): each must finish, exit 0 and
+/// write its picture. Issue "hostile input, second round".
+pub fn hostile_renders_finish_under_a_memory_cap() {
+    if std::process::Command::new("prlimit").arg("--version").output().is_err() {
+        crate::util::skip("prlimit (util-linux) is not installed");
+    }
+    let cases = [
+        // A mirror sphere too small for single precision: NaN normals and
+        // directions, which once sent the BVH walk round its root for ever.
+        ("degenerate mirror sphere", "material 1 1 1 0 0 1 1 0 1; sphere 0 0 -1e-30 1e-31"),
+        // Ks + T = 1.5 at trace_depth 64 through 50 glass balls: the ray tree
+        // doubles at every bounce (over 10 minutes before the per-pixel cap).
+        (
+            "ray tree that doubles",
+            "trace_depth 64; material 1 1 1 0 0 0.5 1 1 1.5\n\
+             for {set i 0} {$i < 50} {incr i} { sphere 0 0 [expr {-$i * 2.5}] 1 }",
+        ),
+    ];
+    let dir = scratch("hostile-renders");
+    for (what, scene) in cases {
+        let script = format!(
+            "camera_resolution 32 32; camera_from 0 0 5; camera_target 0 0 0\n\
+             point_light 10 10 10 0 5 5\n{scene}\nrender out.png\n"
+        );
+        std::fs::write(dir.join("s.tsd"), script).unwrap();
+        let start = std::time::Instant::now();
+        let r = std::process::Command::new("prlimit")
+            .args(["--as=4000000000", "--", env!("CARGO_BIN_EXE_raytrace"), "-q", "s.tsd"])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert_eq!(r.status.code(), Some(0), "{what}: {}", text(&r.stderr));
+        assert!(dir.join("out.png").exists(), "{what}: no picture");
+        // Generous: an unbounded tree takes hours, the bounded one < 1 s.
+        assert!(start.elapsed().as_secs() < 60, "{what}: {:?}", start.elapsed());
+        std::fs::remove_file(dir.join("out.png")).unwrap();
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

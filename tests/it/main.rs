@@ -60,6 +60,7 @@ fn main() {
         bad::the_corpus_is_big_enough,
         bad::every_bad_input_exits_with_a_located_message,
         bad::the_repl_survives_every_bad_input,
+        bad::hostile_renders_finish_under_a_memory_cap,
         cli::dash_c_and_stdin,
         cli::argv_like_tclsh,
         cli::options,

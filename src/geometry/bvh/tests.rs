@@ -197,3 +197,21 @@ fn sphere_blocks_match_the_scalar_test() {
         assert_eq!(mask >> n, 0, "an empty lane was hit");
     }
 }
+
+#[test]
+fn non_finite_rays_find_nothing_and_end() {
+    // Issue "hostile input": a NaN direction made every slab test pass,
+    // empty slots (child 0) led back to the root, and the walk's stack grew
+    // until the allocation failed.
+    let mut seed = 11;
+    let shapes = random_scene(2000, &mut seed);
+    let bvh = Bvh::build(&shapes);
+    let o = Vec3::new(5.0, 5.0, 20.0);
+    for d in [Vec3::NAN, Vec3::new(0.0, f32::INFINITY, -1.0), Vec3::new(f32::NAN, 0.0, -1.0)] {
+        let ray = Ray::new(o, d);
+        assert!(bvh.intersect(&ray, 0.0, f32::INFINITY).0.is_none());
+        assert_eq!(bvh.transmittance(&ray, 0.0, f32::INFINITY, |_| Vec3::ZERO), Vec3::ONE);
+    }
+    let ray = Ray::new(Vec3::splat(f32::INFINITY), Vec3::NEG_Z);
+    assert!(bvh.intersect(&ray, 0.0, f32::INFINITY).0.is_none());
+}
