@@ -50,7 +50,9 @@ pub trait Host {
     fn stdout(&mut self, s: &str) -> std::io::Result<()>;
     fn stderr(&mut self, s: &str) -> std::io::Result<()>;
     fn read_file(&mut self, path: &str) -> std::io::Result<String>;
-    fn flush(&mut self) {}
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
 }
 
 pub(crate) enum Var {
@@ -247,15 +249,22 @@ impl Interp {
     // -- I/O through the host -----------------------------------------------
 
     pub fn write_stdout(&mut self, s: &str) -> Result<(), Exception> {
-        self.host.stdout(s).map_err(|e| Exception::error(format!("error writing \"stdout\": {e}")))
+        self.host.stdout(s).map_err(|e| stdout_error(&e))
     }
 
     pub fn write_stderr(&mut self, s: &str) -> Result<(), Exception> {
         self.host.stderr(s).map_err(|e| Exception::error(format!("error writing \"stderr\": {e}")))
     }
 
+    /// Flushes buffered output; a failure shows at the end (`flush_checked`).
     pub fn flush(&mut self) {
-        self.host.flush();
+        let _ = self.host.flush();
+    }
+
+    /// Flushes buffered output, as an error if it cannot be written (the
+    /// end of a script: output lost to a full disk is an error, as in tclsh).
+    pub fn flush_checked(&mut self) -> Result<(), Exception> {
+        self.host.flush().map_err(|e| stdout_error(&e))
     }
 
     // -- Random numbers (Tcl's own generator, so `srand` matches tclsh) -------
@@ -791,6 +800,17 @@ fn call_numeric(
         Some(n) => Value::from_num(n),
         None => Value::empty(),
     })
+}
+
+/// The error for output that could not be written to stdout.
+fn stdout_error(e: &std::io::Error) -> Exception {
+    let err = Exception::error(format!("error writing \"stdout\": {e}"));
+    // Tcl's errorCode for a reader that went away.
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        err.with_error_code("POSIX EPIPE {broken pipe}")
+    } else {
+        err
+    }
 }
 
 fn too_long() -> Exception {

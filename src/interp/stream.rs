@@ -81,11 +81,15 @@ struct Batch {
 }
 
 /// The scanner thread: reads windows, scans their plain commands.
+/// The UTF-8 byte order mark.
+pub const BOM: &[u8] = b"\xef\xbb\xbf";
+
 fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<std::io::Result<Batch>>) {
     let mut buf: Vec<u8> = Vec::new();
     let mut eof = false;
     let mut line = 1u32;
     let mut spans = SmallVec::new();
+    let mut first = true;
     loop {
         if !eof {
             let want = WINDOW.max(buf.len());
@@ -97,6 +101,12 @@ fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<std::io::Result<B
                     return;
                 }
             }
+            // A UTF-8 byte order mark opening the file is not script text
+            // (tclsh skips it too).
+            if first && buf.starts_with(BOM) {
+                buf.drain(..BOM.len());
+            }
+            first = false;
         }
         let cut = if eof {
             buf.len()
@@ -188,7 +198,8 @@ impl Interp {
                 }
                 Err(e)
             }
-            Err(e) if e.code == Code::Return => Ok(e.value),
+            // `return` ends the file, as it ends a proc (`-code error` is an error).
+            Err(e) if e.code == Code::Return => super::eval::finish_return(e),
             r => r,
         }
     }

@@ -83,7 +83,7 @@ pub fn parse() -> Result<Cli, u8> {
     match Cli::try_parse() {
         Ok(c) => Ok(c),
         Err(e) if e.kind() == clap::error::ErrorKind::UnknownArgument => {
-            eprintln!("{}", unknown_option(&e));
+            say!("{}", unknown_option(&e));
             Err(2)
         }
         Err(e) => {

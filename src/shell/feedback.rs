@@ -223,7 +223,7 @@ impl Feedback {
         if self.batch_bar.is_some() {
             let _ = self.multi.println(text);
         } else {
-            eprintln!("{text}");
+            say!("{text}");
         }
     }
 
@@ -305,7 +305,7 @@ impl Feedback {
             ProgressMode::Json => self.line(&format!(
                 "{{\"event\":\"batch\",\"rendered\":{rendered},\"skipped\":{skipped},\"seconds\":{seconds:.3}}}"
             )),
-            ProgressMode::Plain | ProgressMode::Bar => eprintln!(
+            ProgressMode::Plain | ProgressMode::Bar => say!(
                 "{rendered} frame(s) rendered, {skipped} skipped, in {seconds:.2} s"
             ),
             _ => {}

@@ -59,7 +59,7 @@ pub fn frame_name(pattern: &str, f: i64, width: usize) -> String {
 /// `--skip-existing` goes on from there).
 pub fn run_batch(cli: &Cli) -> i32 {
     let Some(script) = &cli.script else {
-        eprintln!("raytrace: --frames needs a script file");
+        say!("raytrace: --frames needs a script file");
         return EXIT_USAGE;
     };
     let script_name = script.to_string_lossy().into_owned();
@@ -74,13 +74,13 @@ pub fn run_batch(cli: &Cli) -> i32 {
     };
     let width = first.unsigned_abs().max(last.unsigned_abs()).to_string().len().max(4);
     if Format::from_path(&frame_name(&pattern, first, width)).is_none() {
-        eprintln!("raytrace: frame file names must end in .ppm or .png, got \"{pattern}\"");
+        say!("raytrace: frame file names must end in .ppm or .png, got \"{pattern}\"");
         return EXIT_USAGE;
     }
     let src = match super::read_text(&script_name) {
         Ok(s) => s,
         Err(e) => {
-            eprintln!("raytrace: couldn't read file \"{script_name}\": {}", super::io_reason(&e));
+            say!("raytrace: couldn't read file \"{script_name}\": {}", super::io_reason(&e));
             return EXIT_SCRIPT;
         }
     };
@@ -91,7 +91,7 @@ pub fn run_batch(cli: &Cli) -> i32 {
             super::feedback::Feedback::new(super::ProgressMode::None),
         ),
         Err(msg) => {
-            eprintln!("raytrace: {msg}");
+            say!("raytrace: {msg}");
             return EXIT_USAGE;
         }
     };
@@ -109,7 +109,7 @@ pub fn run_batch(cli: &Cli) -> i32 {
         if let Some(dir) = Path::new(&out).parent().filter(|d| !d.as_os_str().is_empty())
             && let Err(e) = std::fs::create_dir_all(dir)
         {
-            eprintln!("raytrace: couldn't create \"{}\": {}", dir.display(), super::io_reason(&e));
+            say!("raytrace: couldn't create \"{}\": {}", dir.display(), super::io_reason(&e));
             return EXIT_IO;
         }
         let session = super::new_session(cli).expect("the options were checked above");
@@ -130,7 +130,7 @@ pub fn run_batch(cli: &Cli) -> i32 {
         let code = super::finish(&mut interp, r);
         if code != 0 {
             fb.end_batch(rendered, skipped, start.elapsed().as_secs_f64());
-            eprintln!("raytrace: frame {f} failed; {rendered} frame(s) rendered before it");
+            say!("raytrace: frame {f} failed; {rendered} frame(s) rendered before it");
             return code;
         }
         rendered += 1;

@@ -8,6 +8,23 @@
 //! that vanished): worth a retry; 130 interrupted (Ctrl-C, SIGTERM);
 //! 70 an internal error; `exit N` in a script exits with N.
 
+/// `eprintln!` that never panics: a closed or full stderr (`2>&1 | head
+/// -1`, `2>/dev/full`) loses the message, not the run.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
+/// `println!` that never panics (a closed stdout ends nothing by itself).
+macro_rules! show_line {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}
+
 mod args;
 mod commands;
 pub mod docs;
@@ -36,6 +53,9 @@ pub const EXIT_USAGE: i32 = 2;
 pub const EXIT_INTERNAL: i32 = 70;
 pub const EXIT_IO: i32 = 74;
 pub const EXIT_INTERRUPTED: i32 = 130;
+/// Standard output was closed by its reader: 128 + SIGPIPE, as a shell
+/// reports a tool that died of it.
+pub const EXIT_BROKEN_PIPE: i32 = 141;
 
 /// The error a cancelled render or script ends with.
 pub fn interrupted() -> Exception {
@@ -79,15 +99,18 @@ impl Host for StdHost {
     fn stdout(&mut self, s: &str) -> std::io::Result<()> {
         self.out.write_all(s.as_bytes())
     }
+    /// Messages on stderr never fail the script: a closed or full stderr
+    /// (`2>&1 | head -1`, `2>/dev/full`) only loses them.
     fn stderr(&mut self, s: &str) -> std::io::Result<()> {
-        self.out.flush()?;
-        std::io::stderr().write_all(s.as_bytes())
+        let _ = self.out.flush();
+        let _ = std::io::stderr().write_all(s.as_bytes());
+        Ok(())
     }
     fn read_file(&mut self, path: &str) -> std::io::Result<String> {
         read_text(path)
     }
-    fn flush(&mut self) {
-        let _ = self.out.flush();
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
     }
 }
 
@@ -115,7 +138,11 @@ impl Host for CaptureHost {
 /// Reads a file as text; bytes that are not UTF-8 become U+FFFD rather
 /// than an error, as a binary-garbage scene should give a Tcl error.
 pub fn read_text(path: &str) -> std::io::Result<String> {
-    let bytes = std::fs::read(path)?;
+    let mut bytes = std::fs::read(path)?;
+    // A UTF-8 byte order mark is not text (tclsh's `source` skips it).
+    if bytes.starts_with(b"\xef\xbb\xbf") {
+        bytes.drain(..3);
+    }
     Ok(match String::from_utf8(bytes) {
         Ok(s) => s,
         Err(e) => String::from_utf8_lossy(e.as_bytes()).into_owned(),
@@ -288,10 +315,26 @@ pub(crate) fn at_end_of(mut e: Exception, file: &str, line: u32) -> Exception {
 
 /// Turns the outcome of a top-level script into an exit code.
 pub fn finish(interp: &mut Interp, r: Result<Value, Exception>) -> i32 {
+    // Output still buffered must reach stdout, or the run failed.
+    let r = match (r, interp.flush_checked()) {
+        (Ok(_), Err(e)) => Err(e),
+        (r, _) => r,
+    };
+    // `return -code error` at the top level is an error, as in tclsh.
+    let r = match r {
+        Err(e) if e.code == Code::Return && e.return_code == Some(Code::Error) => {
+            let mut err = Exception::error(e.value.as_str().to_string());
+            err.error_code = e.error_code.clone();
+            err.loc = e.loc.clone();
+            Err(err)
+        }
+        r => r,
+    };
     let code = match r {
         Ok(_) => 0,
         Err(e) => match e.code {
-            Code::Exit(n) => n,
+            // As a process's status: the low byte (`exit -1` is 255).
+            Code::Exit(n) => n & 0xff,
             Code::Return => 0,
             Code::Break | Code::Continue => {
                 let word = if e.code == Code::Break { "break" } else { "continue" };
@@ -300,6 +343,9 @@ pub fn finish(interp: &mut Interp, r: Result<Value, Exception>) -> i32 {
                 report_error(interp, &err);
                 1
             }
+            // Whoever read standard output has stopped (`| head`): end
+            // quietly, as a Unix tool killed by SIGPIPE does.
+            Code::Error if e.error_code().as_str().starts_with("POSIX EPIPE") => EXIT_BROKEN_PIPE,
             Code::Error => {
                 report_error(interp, &e);
                 exit_code_of(&e)
@@ -313,6 +359,7 @@ pub fn finish(interp: &mut Interp, r: Result<Value, Exception>) -> i32 {
 /// The exit status for an uncaught error, by its `errorCode`.
 pub fn exit_code_of(e: &Exception) -> i32 {
     match e.error_code().as_str() {
+        c if c.starts_with("POSIX EPIPE") => EXIT_BROKEN_PIPE,
         INTERRUPT_CODE => EXIT_INTERRUPTED,
         IO_ERROR_CODE => EXIT_IO,
         _ => EXIT_SCRIPT,
@@ -335,7 +382,7 @@ pub fn main() -> ExitCode {
     if let Some(n) = cli.threads
         && let Err(e) = rayon::ThreadPoolBuilder::new().num_threads(n as usize).build_global()
     {
-        eprintln!("raytrace: cannot set up {n} threads: {e}");
+        say!("raytrace: cannot set up {n} threads: {e}");
         return ExitCode::from(2);
     }
     feedback::catch_interrupts();
@@ -343,7 +390,7 @@ pub fn main() -> ExitCode {
     let code = match on_big_stack(move || run(cli)) {
         Ok(code) => code,
         _ => {
-            eprintln!("raytrace: internal error (please report it)");
+            say!("raytrace: internal error (please report it)");
             EXIT_INTERNAL
         }
     };
@@ -380,7 +427,7 @@ fn run(cli: Cli) -> i32 {
     let done = |r: Result<(), (i32, String)>| match r {
         Ok(()) => 0,
         Err((code, msg)) => {
-            eprintln!("raytrace: {msg}");
+            say!("raytrace: {msg}");
             code
         }
     };
@@ -396,14 +443,14 @@ fn run(cli: Cli) -> i32 {
     let session = match new_session(&cli) {
         Ok(s) => s,
         Err(msg) => {
-            eprintln!("raytrace: {msg}");
+            say!("raytrace: {msg}");
             return EXIT_USAGE;
         }
     };
     // With -c, a first positional argument is the output file.
     let output = match (&cli.command, &cli.script, &cli.output) {
         (Some(_), Some(_), Some(extra)) => {
-            eprintln!(
+            say!(
                 "raytrace: with -c, only an output file may follow, not also \"{}\"",
                 extra.display()
             );
@@ -416,7 +463,7 @@ fn run(cli: Cli) -> i32 {
     if let Some(out) = &output
         && let Err(msg) = check_output(out)
     {
-        eprintln!("raytrace: {msg}");
+        say!("raytrace: {msg}");
         return EXIT_USAGE;
     }
     let state = session.state.clone();
@@ -431,7 +478,7 @@ fn run(cli: Cli) -> i32 {
                 let path_str = path.to_string_lossy().into_owned();
                 set_argv(&mut interp, &path_str, &cli.args);
                 if path.is_dir() {
-                    eprintln!(
+                    say!(
                         "raytrace: couldn't read file \"{path_str}\": illegal operation on a directory"
                     );
                     return EXIT_SCRIPT;
@@ -439,7 +486,7 @@ fn run(cli: Cli) -> i32 {
                 let mut f = match std::fs::File::open(path) {
                     Ok(f) => f,
                     Err(e) => {
-                        eprintln!("raytrace: couldn't read file \"{path_str}\": {}", io_reason(&e));
+                        say!("raytrace: couldn't read file \"{path_str}\": {}", io_reason(&e));
                         return EXIT_SCRIPT;
                     }
                 };
@@ -474,11 +521,13 @@ fn run(cli: Cli) -> i32 {
     if r.is_ok() && output.is_none() && state.borrow().renders == 0 && !quiet {
         let b = scene.borrow();
         if !b.prims.is_empty() || !b.lights.is_empty() {
-            let name = file.as_deref().unwrap_or("the script");
-            eprintln!(
+            let (name, how) = match file.as_deref() {
+                Some(f) => (f.to_string(), format!("raytrace {f} out.png")),
+                None => ("the script".to_string(), "raytrace -c SCRIPT out.png".to_string()),
+            };
+            say!(
                 "raytrace: {name} built a scene but rendered nothing; name an output file \
-                 (raytrace {} out.png) or call `render out.png` in the script",
-                file.as_deref().unwrap_or("scene.tsd")
+                 ({how}) or call `render out.png` in the script"
             );
         }
     }

@@ -157,6 +157,10 @@ impl<R: BufRead> BufRead for Checked<R> {
             self.buf.clear();
             self.pos = 0;
             self.inner.read_until(b'\n', &mut self.buf)?;
+            // A UTF-8 byte order mark opening the file is not OBJ text.
+            if self.line == 0 && self.buf.starts_with(b"\xef\xbb\xbf") {
+                self.buf.drain(..3);
+            }
             if !self.buf.is_empty() {
                 self.line += 1;
                 let ok = std::str::from_utf8(&self.buf)

@@ -210,6 +210,10 @@ pub fn eval_line(interp: &mut Interp, line: &str) -> Reply {
                 let _ = interp.set_var("::errorCode", e.error_code());
                 Reply::Error(e.message().to_string())
             }
+            // `return -code error` at the prompt is an error, as in tclsh.
+            Code::Return if e.return_code == Some(Code::Error) => {
+                Reply::Error(e.value.as_str().to_string())
+            }
             Code::Return => shown(&e.value),
             Code::Break | Code::Continue => {
                 let w = if e.code == Code::Break { "break" } else { "continue" };
@@ -227,7 +231,7 @@ pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellSt
     let mut rl: Editor<ShellHelper, DefaultHistory> = match Editor::with_config(config) {
         Ok(r) => r,
         Err(e) => {
-            eprintln!("raytrace: cannot start the interactive shell: {e}");
+            say!("raytrace: cannot start the interactive shell: {e}");
             return 1;
         }
     };
@@ -240,7 +244,7 @@ pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellSt
     if let Some(h) = &history {
         let _ = rl.load_history(h);
     }
-    println!("rayshell {} — type `help` for commands, Ctrl-D to quit", env!("CARGO_PKG_VERSION"));
+    show_line!("rayshell {} — type `help` for commands, Ctrl-D to quit", env!("CARGO_PKG_VERSION"));
     let mut code = 0;
     loop {
         if let Some(h) = rl.helper_mut() {
@@ -261,9 +265,9 @@ pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellSt
                 }
                 let _ = rl.add_history_entry(line.as_str());
                 match eval_line(interp, &line) {
-                    Reply::Result(v) => println!("{v}"),
+                    Reply::Result(v) => show_line!("{v}"),
                     Reply::Nothing => {}
-                    Reply::Error(msg) => eprintln!("{msg}"),
+                    Reply::Error(msg) => say!("{msg}"),
                     Reply::Exit(n) => {
                         code = n;
                         break;
@@ -273,7 +277,7 @@ pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellSt
             Err(ReadlineError::Interrupted) => continue,
             Err(ReadlineError::Eof) => break,
             Err(e) => {
-                eprintln!("raytrace: {e}");
+                say!("raytrace: {e}");
                 code = 1;
                 break;
             }

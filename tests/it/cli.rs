@@ -364,3 +364,41 @@ pub fn repl_stats_leave_out_the_time_spent_typing() {
     let secs: f64 = line.split_whitespace().next().and_then(|s| s.parse().ok()).expect(line);
     assert!(secs < 1.0, "parse time {secs} s includes the pause: {shown}");
 }
+
+pub fn closed_streams_and_byte_order_marks() {
+    // Issue "hostile input": a closed or full stderr never stops a run (it
+    // once panicked, exit 101); a reader that stops reading stdout ends the
+    // run quietly (141, as a tool killed by SIGPIPE); output lost to a full
+    // disk is an error; a UTF-8 byte order mark opening a script or an OBJ
+    // file is skipped, as tclsh skips it.
+    let dir = crate::util::scratch("streams");
+    std::fs::write(dir.join("s.tsd"), "camera_resolution 8 8; sphere 0 0 -3 1\n").unwrap();
+    let full = std::fs::File::options().write(true).open("/dev/full").unwrap();
+    let r = crate::util::raytrace()
+        .args(["s.tsd", "f####.png", "--frames", "0..3"])
+        .current_dir(&dir)
+        .stderr(full)
+        .output()
+        .unwrap();
+    assert_eq!(r.status.code(), Some(0));
+    assert_eq!(crate::util::listing(&dir).len(), 5, "every frame written");
+    let mut child = crate::util::raytrace()
+        .args(["-c", "while 1 {puts [string repeat x 100]}"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(141));
+    assert_eq!(text(&out.stderr), "", "quietly");
+    let full = std::fs::File::options().write(true).open("/dev/full").unwrap();
+    let r = crate::util::raytrace().args(["-c", "puts hi"]).stdout(full).output().unwrap();
+    assert_eq!(r.status.code(), Some(1));
+    assert!(text(&r.stderr).contains("error writing \"stdout\""), "{}", text(&r.stderr));
+    std::fs::write(dir.join("bom.tsd"), b"\xef\xbb\xbfputs [mesh bom.obj]\n").unwrap();
+    std::fs::write(dir.join("bom.obj"), b"\xef\xbb\xbfv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+        .unwrap();
+    let r = crate::util::raytrace().args(["-q", "bom.tsd"]).current_dir(&dir).output().unwrap();
+    assert_eq!(text(&r.stdout), "1\n", "{}", text(&r.stderr));
+}

@@ -77,6 +77,7 @@ fn main() {
         cli::show_draws_the_last_render_in_half_blocks,
         cli::a_bar_asked_for_is_drawn_into_a_pipe,
         cli::repl_stats_leave_out_the_time_spent_typing,
+        cli::closed_streams_and_byte_order_marks,
         farm::frames_are_selected_named_and_rendered_once,
         farm::shards_cover_every_frame_once_with_the_same_bytes,
         farm::skip_existing_leaves_finished_frames_alone,

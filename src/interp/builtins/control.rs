@@ -442,8 +442,12 @@ fn cmd_source(interp: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_exit(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 1, 2, "?returnCode?")?;
     let code = if argv.len() == 2 { argv[1].as_int()? } else { 0 };
+    // Tcl takes a C int here (unsigned values up to 2^32 - 1 too).
+    if !(i32::MIN as i64..=u32::MAX as i64).contains(&code) {
+        return Err(Exception::error("integer value too large to represent"));
+    }
     interp.flush();
-    Err(Exception::flow(Code::Exit(code as i32), Value::empty()))
+    Err(Exception::flow(Code::Exit(code as u32 as i32), Value::empty()))
 }
 
 fn cmd_time(interp: &mut Interp, argv: &[Value]) -> TclResult {

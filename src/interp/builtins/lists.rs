@@ -265,7 +265,9 @@ fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
         };
         if decreasing { o.reverse() } else { o }
     };
-    keyed.sort_by(|a, b| cmp(&a.0, &b.0));
+    // Our own merge sort (Tcl's algorithm): std's sort may panic when a
+    // `-command` comparison is not a consistent order; Tcl returns some order.
+    merge_sort(&mut keyed, |a, b| cmp(&a.0, &b.0));
     if let Some(e) = err.borrow_mut().take() {
         return Err(e);
     }
@@ -353,8 +355,15 @@ fn cmd_lreverse(_: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_lrepeat(_: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "count ?value ...?")?;
     let n = argv[1].as_int()?;
+    // Tcl's count is a C int.
+    if n > i32::MAX as i64 {
+        return Err(Exception::error("integer value too large to represent"));
+    }
     if n < 0 {
         return Err(Exception::error(format!("bad count \"{n}\": must be integer >= 0")));
+    }
+    if argv.len() == 2 {
+        return Ok(Value::from_list(Vec::new()));
     }
     let total = (n as usize).saturating_mul(argv.len() - 2);
     check_list_len(total)?;
@@ -439,4 +448,49 @@ fn cmd_split(_: &mut Interp, argv: &[Value]) -> TclResult {
         s.split(|c| seps.contains(&c)).map(Value::from).collect()
     };
     Ok(Value::from_list(items))
+}
+
+/// A stable merge sort that only asks `cmp` and never panics, whatever it
+/// answers (an inconsistent order gives some order, as in Tcl).
+fn merge_sort<T: Clone>(v: &mut [T], mut cmp: impl FnMut(&T, &T) -> Ordering) {
+    let n = v.len();
+    if n < 2 {
+        return;
+    }
+    let mut buf: Vec<T> = v.to_vec();
+    let mut width = 1;
+    // Runs of `width` are sorted in `v`; merge pairs of them into `buf`,
+    // then copy back.
+    while width < n {
+        let mut start = 0;
+        while start < n {
+            let mid = (start + width).min(n);
+            let end = (start + 2 * width).min(n);
+            let (mut i, mut j, mut k) = (start, mid, start);
+            while i < mid && j < end {
+                // Take from the right only when strictly smaller: stable.
+                if cmp(&v[j], &v[i]) == Ordering::Less {
+                    buf[k] = v[j].clone();
+                    j += 1;
+                } else {
+                    buf[k] = v[i].clone();
+                    i += 1;
+                }
+                k += 1;
+            }
+            while i < mid {
+                buf[k] = v[i].clone();
+                i += 1;
+                k += 1;
+            }
+            while j < end {
+                buf[k] = v[j].clone();
+                j += 1;
+                k += 1;
+            }
+            start = end;
+        }
+        v.clone_from_slice(&buf);
+        width *= 2;
+    }
 }
