@@ -471,7 +471,8 @@ fn run(cli: Cli) -> i32 {
     let mut interp = session.interp;
     let (r, file, end) = if let Some(cmd) = &cli.command {
         set_argv(&mut interp, "raytrace", &cli.args);
-        (interp.eval_source(cmd, None), None, None)
+        // Errors are placed as `-c:LINE:`.
+        (interp.eval_source(cmd, Some("-c")), None, None)
     } else {
         match &cli.script {
             Some(path) if path.as_os_str() != "-" => {
@@ -572,16 +573,35 @@ pub struct AtomicFile {
 
 impl AtomicFile {
     /// Creates the temporary file now, so an unwritable path fails early.
+    /// A symlink is written through (the link stays, its target is
+    /// replaced); an existing file must be writable, as for a plain write,
+    /// and keeps its permissions.
     pub fn create(path: &str) -> std::io::Result<AtomicFile> {
-        let p = std::path::Path::new(path);
+        let p = resolve_links(std::path::Path::new(path));
         let name = p.file_name().ok_or_else(|| std::io::Error::other("not a file name"))?;
         let dir = match p.parent() {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
             _ => std::path::PathBuf::from("."),
         };
-        let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+        let existing = std::fs::metadata(&p).ok();
+        if existing.as_ref().is_some_and(|m| m.is_file()) {
+            // The permission a plain write would need.
+            std::fs::OpenOptions::new().write(true).open(&p)?;
+        }
+        let name = name.to_string_lossy();
+        let pid = std::process::id();
+        // The temporary name must fit in a name's 255 bytes too.
+        let tmp_name = format!(".{name}.{pid}.tmp");
+        let tmp_name =
+            if tmp_name.len() <= 255 { tmp_name } else { format!(".rayshell.{pid}.tmp") };
+        let tmp = dir.join(tmp_name);
         let file = std::fs::File::create(&tmp)?;
-        Ok(AtomicFile { tmp, path: p.to_path_buf(), file: Some(std::io::BufWriter::new(file)) })
+        let mut out = AtomicFile { tmp, path: p, file: Some(std::io::BufWriter::new(file)) };
+        if let Some(m) = existing.filter(|m| m.is_file()) {
+            std::fs::set_permissions(&out.tmp, m.permissions())?;
+        }
+        out.file.as_mut().expect("just made").flush()?;
+        Ok(out)
     }
 
     pub fn writer(&mut self) -> &mut std::io::BufWriter<std::fs::File> {
@@ -595,6 +615,20 @@ impl AtomicFile {
         file.sync_all()?;
         std::fs::rename(&self.tmp, &self.path)
     }
+}
+
+/// `path` with symlinks in its last component followed (up to 40, as the
+/// kernel does), so writing replaces the file a link points to.
+fn resolve_links(path: &std::path::Path) -> std::path::PathBuf {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::read_link(&p) {
+            Ok(target) if target.is_absolute() => p = target,
+            Ok(target) => p = p.parent().map_or(target.clone(), |d| d.join(&target)),
+            Err(_) => break,
+        }
+    }
+    p
 }
 
 impl Drop for AtomicFile {

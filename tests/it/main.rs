@@ -78,6 +78,7 @@ fn main() {
         cli::a_bar_asked_for_is_drawn_into_a_pipe,
         cli::repl_stats_leave_out_the_time_spent_typing,
         cli::closed_streams_and_byte_order_marks,
+        cli::output_files_keep_links_modes_and_long_names,
         farm::frames_are_selected_named_and_rendered_once,
         farm::shards_cover_every_frame_once_with_the_same_bytes,
         farm::skip_existing_leaves_finished_frames_alone,
