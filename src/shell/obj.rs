@@ -102,8 +102,9 @@ impl<R: BufRead> Checked<R> {
 /// and `vn` lines seen so far.
 fn line_ok(line: &str, counts: &mut [i64; 3]) -> bool {
     let mut words = line.split_whitespace();
+    // Finite numbers only: a NaN or infinite coordinate is named by its line.
     let floats = |w: std::str::SplitWhitespace, n: usize| {
-        w.take(n).filter(|x| x.parse::<f32>().is_ok()).count() == n
+        w.take(n).filter(|x| x.parse::<f32>().is_ok_and(f32::is_finite)).count() == n
     };
     let index_ok = |p: &str, n: i64| {
         p.is_empty()

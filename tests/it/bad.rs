@@ -350,6 +350,7 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
     ),
     ("mesh garbage file", "mesh garbage.obj", 1, "garbage.obj:"),
     ("mesh bad face", "mesh badface.obj", 1, "badface.obj:4: bad OBJ line \"f 1 2 7\""),
+    ("mesh NaN vertex", "mesh nanvertex.obj", 1, "nanvertex.obj:2: bad OBJ line \"v nan 0 0\""),
     ("mesh zero scale", "mesh badface.obj -scale 0", 1, "mesh -scale must not be zero"),
     (
         "mesh bad option",
@@ -446,6 +447,7 @@ fn setup(dir: &std::path::Path) {
     std::fs::write(dir.join("garbage.obj"), (0u8..=255).cycle().take(1024).collect::<Vec<u8>>())
         .unwrap();
     std::fs::write(dir.join("badface.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap();
+    std::fs::write(dir.join("nanvertex.obj"), "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
 }
 
 pub fn the_corpus_is_big_enough() {
@@ -479,7 +481,11 @@ pub fn every_bad_input_exits_with_a_located_message() {
             assert!(err.starts_with(&want), "{what}: want {want:?}\n got {head}");
         }
         // Nothing left behind: no partial image, no temporary file.
-        assert_eq!(listing(&dir), ["bad.tsd", "badface.obj", "garbage.obj"], "{what}");
+        assert_eq!(
+            listing(&dir),
+            ["bad.tsd", "badface.obj", "garbage.obj", "nanvertex.obj"],
+            "{what}"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -504,9 +510,17 @@ pub fn the_repl_survives_every_bad_input() {
         for (what, script, code, msg) in all_cases() {
             // The REPL runs in another directory: name files in full.
             let full = |text: String| {
-                ["bad.tsd", "garbage.obj", "badface.obj", "missing.obj", "missing.tsd", "x.ppm"]
-                    .iter()
-                    .fold(text, |s, f| s.replace(f, &p(f)))
+                [
+                    "bad.tsd",
+                    "garbage.obj",
+                    "badface.obj",
+                    "nanvertex.obj",
+                    "missing.obj",
+                    "missing.tsd",
+                    "x.ppm",
+                ]
+                .iter()
+                .fold(text, |s, f| s.replace(f, &p(f)))
             };
             let (script, msg) = (full(script), full(msg));
             let reply = eval_line(i, &script);
