@@ -16,6 +16,7 @@ mod parser;
 mod stream;
 mod value;
 
+pub use builtins::subcommands;
 pub use error::{Code, Exception, Loc, TclResult};
 pub use eval::{Host, INTERRUPT_CODE, Interp, MAX_LIST_LEN, MAX_VALUE_LEN};
 pub use list::format_list;

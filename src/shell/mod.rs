@@ -193,6 +193,10 @@ fn register_shell_commands(interp: &mut Interp) {
     );
 }
 
+/// The `file` subcommands rayshell has.
+pub(crate) const FILE_SUBCOMMANDS: &[&str] =
+    &["dirname", "exists", "extension", "join", "readable", "rootname", "tail"];
+
 fn file_command(argv: &[Value]) -> Result<Value, Exception> {
     use std::path::Path;
     let name = argv[2].as_str();
@@ -248,8 +252,10 @@ fn file_command(argv: &[Value]) -> Result<Value, Exception> {
             Value::from_bool(std::fs::File::open(p).is_ok())
         }
         other => {
+            let (last, rest) = FILE_SUBCOMMANDS.split_last().expect("not empty");
             return Err(Exception::error(format!(
-                "bad option \"{other}\": must be dirname, exists, extension, join, readable, rootname, or tail"
+                "bad option \"{other}\": must be {}, or {last}",
+                rest.join(", ")
             )));
         }
     })

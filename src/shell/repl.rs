@@ -23,47 +23,15 @@ struct ShellHelper {
     files: rustyline::completion::FilenameCompleter,
 }
 
-/// Subcommands offered after these commands' names.
-const SUBCOMMANDS: &[(&str, &[&str])] = &[
-    ("array", &["exists", "get", "names", "set", "size", "unset"]),
-    ("file", &["dirname", "exists", "extension", "join", "readable", "rootname", "tail"]),
-    (
-        "info",
-        &[
-            "args", "body", "commands", "complete", "default", "exists", "globals", "level",
-            "locals", "procs", "script", "vars",
-        ],
-    ),
-    (
-        "string",
-        &[
-            "bytelength",
-            "cat",
-            "compare",
-            "equal",
-            "first",
-            "index",
-            "is",
-            "last",
-            "length",
-            "map",
-            "match",
-            "range",
-            "repeat",
-            "replace",
-            "reverse",
-            "tolower",
-            "totitle",
-            "toupper",
-            "trim",
-            "trimleft",
-            "trimright",
-            "wordend",
-            "wordstart",
-        ],
-    ),
-    ("preview", &["on", "off"]),
-];
+/// The subcommands offered after a command's name: the interpreter's
+/// ensembles, and the shell's own.
+fn subcommands(command: &str) -> Option<&'static [&'static str]> {
+    crate::interp::subcommands(command).or(match command {
+        "file" => Some(super::FILE_SUBCOMMANDS),
+        "preview" => Some(&["on", "off", "term"]),
+        _ => None,
+    })
+}
 
 /// Options offered after these commands' names, for a word that starts
 /// with `-`.
@@ -113,7 +81,7 @@ pub fn candidates(
         return Some((start, from(opts)));
     }
     if words.len() == 1
-        && let Some((_, subs)) = SUBCOMMANDS.iter().find(|(c, _)| *c == command)
+        && let Some(subs) = subcommands(command)
     {
         return Some((start, from(subs)));
     }

@@ -52,26 +52,8 @@ pub fn ctrl_c_in_a_batch_exits_130_and_leaves_no_file() {
 pub fn ctrl_c_in_the_repl_cancels_the_render_and_keeps_the_session() {
     // The REPL needs a terminal: util-linux `script` gives it one, and a
     // ^C typed there reaches raytrace as SIGINT, as from a keyboard.
-    if Command::new("script").arg("--version").output().is_err() {
-        crate::util::skip("`script` (util-linux) is not installed");
-    }
     let dir = scratch("repl-sigint");
-    // `script` runs its command through $SHELL -c; `exec` makes raytrace
-    // the only process there, or dash (CI's /bin/sh) also gets the SIGINT,
-    // dies of it, and `script` reports that status instead of ours.
-    let bin = format!("exec '{}'", env!("CARGO_BIN_EXE_raytrace"));
-    let mut child = Command::new("script")
-        .args(["-qfec", &bin, "/dev/null"])
-        .current_dir(&dir)
-        .env("XDG_DATA_HOME", &dir)
-        // rustyline's line mode for simple terminals: no raw mode, so lines
-        // typed ahead are kept (a raw-mode switch would flush them).
-        .env("TERM", "dumb")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = crate::util::spawn_repl(&dir);
     let mut input = child.stdin.take().unwrap();
     // Everything the terminal shows, collected as it comes.
     let shown = std::sync::Arc::new(std::sync::Mutex::new(String::new()));

@@ -63,28 +63,38 @@ pub fn skip(reason: impl Into<String>) -> ! {
     std::panic::panic_any(Skip(reason.into()))
 }
 
-/// Runs the REPL on a terminal (util-linux `script` gives it one), types
-/// `lines` (a line `#pause MS` waits instead), and returns its exit status and everything the terminal and
-/// stderr showed. Skips the test when `script` is absent.
-pub fn repl_session(lines: &[&str]) -> (Option<i32>, String) {
-    use std::io::{Read, Write};
+/// Starts the REPL in `dir` on a terminal that util-linux `script` gives
+/// it, with its stdin, stdout and stderr piped. Skips the test when
+/// `script` is absent.
+pub fn spawn_repl(dir: &std::path::Path) -> std::process::Child {
     if Command::new("script").arg("--version").output().is_err() {
         skip("`script` (util-linux) is not installed");
     }
-    let dir = scratch("repl-session");
-    // `exec`: raytrace is the only process on the terminal (see the Ctrl-C
-    // test); TERM=dumb: rustyline's line mode keeps lines typed ahead.
+    // `exec`: raytrace is the only process on the terminal, or dash (CI's
+    // /bin/sh, which `script` runs the command with) would also get a ^C,
+    // die of it, and `script` would report that status instead of ours.
+    // TERM=dumb: rustyline's line mode keeps lines typed ahead (a raw-mode
+    // switch would flush them).
     let bin = format!("exec '{}'", env!("CARGO_BIN_EXE_raytrace"));
-    let mut child = Command::new("script")
+    Command::new("script")
         .args(["-qfec", &bin, "/dev/null"])
-        .current_dir(&dir)
-        .env("XDG_DATA_HOME", &dir)
+        .current_dir(dir)
+        .env("XDG_DATA_HOME", dir)
         .env("TERM", "dumb")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .expect("run script");
+        .expect("run script")
+}
+
+/// Runs the REPL on a terminal (`spawn_repl`), types
+/// `lines` (a line `#pause MS` waits instead), and returns its exit status and everything the terminal and
+/// stderr showed. Skips the test when `script` is absent.
+pub fn repl_session(lines: &[&str]) -> (Option<i32>, String) {
+    use std::io::{Read, Write};
+    let dir = scratch("repl-session");
+    let mut child = spawn_repl(&dir);
     let mut input = child.stdin.take().expect("stdin");
     for line in lines {
         // `#pause MS`: wait before typing on, as a person would.

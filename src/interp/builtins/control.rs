@@ -475,16 +475,14 @@ fn filter(names: Vec<String>, pattern: Option<&Value>) -> Value {
     Value::from_list(items)
 }
 
+pub(crate) const INFO_SUBCOMMANDS: &[&str] = &[
+    "args", "body", "commands", "complete", "default", "exists", "globals", "level", "locals",
+    "procs", "script", "vars",
+];
+
 fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;
-    let sub = pick_option(
-        argv[1].as_str(),
-        &[
-            "args", "body", "commands", "complete", "default", "exists", "globals", "level",
-            "locals", "procs", "script", "vars",
-        ],
-        "option",
-    )?;
+    let sub = pick_option(argv[1].as_str(), INFO_SUBCOMMANDS, "option")?;
     let proc_of = |interp: &Interp, name: &Value| {
         interp
             .get_proc(name.as_str())

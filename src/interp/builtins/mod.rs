@@ -6,6 +6,17 @@ mod lists;
 mod strings;
 mod vars;
 
+/// The subcommands of the built-in ensembles (`string`, `info`, `array`),
+/// as their commands accept them: for completion.
+pub fn subcommands(command: &str) -> Option<&'static [&'static str]> {
+    match command {
+        "string" => Some(strings::SUBCOMMANDS),
+        "info" => Some(control::INFO_SUBCOMMANDS),
+        "array" => Some(vars::ARRAY_SUBCOMMANDS),
+        _ => None,
+    }
+}
+
 use super::error::Exception;
 use super::eval::{Interp, NativeFn};
 use super::value::Value;

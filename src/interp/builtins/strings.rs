@@ -19,7 +19,7 @@ pub(super) const COMMANDS: &[Entry] = &[
     ("puts", cmd_puts, "?-nonewline? ?channelId? string", "print a line to stdout or stderr"),
 ];
 
-const SUBCOMMANDS: &[&str] = &[
+pub(crate) const SUBCOMMANDS: &[&str] = &[
     "bytelength",
     "cat",
     "compare",

@@ -113,13 +113,11 @@ fn cmd_upvar(interp: &mut Interp, argv: &[Value]) -> TclResult {
     Ok(Value::empty())
 }
 
+pub(crate) const ARRAY_SUBCOMMANDS: &[&str] = &["exists", "get", "names", "set", "size", "unset"];
+
 fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 3, usize::MAX, "subcommand ?arg ...?")?;
-    let sub = pick_option(
-        argv[1].as_str(),
-        &["exists", "get", "names", "set", "size", "unset"],
-        "option",
-    )?;
+    let sub = pick_option(argv[1].as_str(), ARRAY_SUBCOMMANDS, "option")?;
     let name = argv[2].as_str();
     let args = &argv[3..];
     let cell = interp.find_var(name);
