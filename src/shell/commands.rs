@@ -657,6 +657,7 @@ fn raybench_command(
         out.push(Value::from_f64(rays as f64 / seconds.max(1e-9) / 1e6));
     }
     let mut st = state.borrow_mut();
+    st.renders += 1;
     st.last = Some(report);
     st.since_last = Instant::now();
     Ok(Value::from_list(out))

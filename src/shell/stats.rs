@@ -20,7 +20,8 @@ pub struct ShellState {
     /// The last picture traced, so rendering an unchanged scene again
     /// writes it without tracing.
     pub last_picture: Option<Picture>,
-    /// How many pictures `render` has written in this session.
+    /// How many times this session traced its scene (`render`,
+    /// `raybench`): none means a script built a scene and never looked.
     pub renders: usize,
 }
 
