@@ -54,6 +54,7 @@
 pub mod geometry;
 pub mod image;
 pub mod interp;
+pub mod mem;
 pub mod render;
 pub mod scene;
 pub mod shell;

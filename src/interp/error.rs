@@ -121,3 +121,9 @@ impl Exception {
 }
 
 pub type TclResult = Result<Value, Exception>;
+
+impl From<crate::mem::OverBudget> for Exception {
+    fn from(e: crate::mem::OverBudget) -> Exception {
+        Exception::error(e.to_string()).with_error_code("RAYSHELL MEMORY")
+    }
+}

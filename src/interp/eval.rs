@@ -15,7 +15,7 @@ use super::error::{Code, Exception, Loc, TclResult};
 use super::expr::{self, Expr, Operand};
 use super::number::Num;
 use super::parser::{Command, Part, Script, VarName, Word};
-use super::value::{Rep, Value};
+use super::value::{self, Rep, Value};
 
 pub type NativeFn = fn(&mut Interp, &[Value]) -> TclResult;
 pub type HostFn = Rc<dyn Fn(&mut Interp, &[Value]) -> TclResult>;
@@ -24,14 +24,70 @@ pub type HostFn = Rc<dyn Fn(&mut Interp, &[Value]) -> TclResult>;
 /// It returns a number or nothing (the empty string).
 pub type NumericFn = Rc<dyn Fn(&mut Interp, &[Num]) -> Result<Option<Num>, Exception>>;
 
-/// Nested command invocations allowed before "too many nested evaluations".
+/// Nested command invocations allowed before "too many nested evaluations",
+/// counted as Tcl 8.6 counts them (`interp recursionlimit`): each call of
+/// a proc or of a command Tcl does not compile inline (`eval`, `uplevel`,
+/// `puts`...) is a level; `if`, `while`, `catch`, `[...]` are not.
 pub const DEFAULT_MAX_DEPTH: usize = 1000;
+/// The deepest the evaluator itself may recurse (commands, substitutions
+/// and expressions, whether Tcl counts them or not), which the interpreter
+/// thread's stack must hold.
+pub const MAX_NATIVE_DEPTH: usize = 12_000;
+
+/// The commands Tcl 8.6 compiles to bytecode (they run inline and are not
+/// a nesting level): tclBasic.c's `builtInCmds` with a compile procedure.
+const INLINE: &[&str] = &[
+    "append",
+    "array",
+    "break",
+    "catch",
+    "concat",
+    "continue",
+    "dict",
+    "error",
+    "expr",
+    "for",
+    "foreach",
+    "format",
+    "global",
+    "if",
+    "incr",
+    "info",
+    "join",
+    "lappend",
+    "lassign",
+    "lindex",
+    "linsert",
+    "list",
+    "llength",
+    "lmap",
+    "lrange",
+    "lreplace",
+    "lset",
+    "namespace",
+    "regexp",
+    "regsub",
+    "return",
+    "set",
+    "string",
+    "subst",
+    "switch",
+    "tailcall",
+    "throw",
+    "try",
+    "unset",
+    "upvar",
+    "variable",
+    "while",
+    "yield",
+];
 /// The largest string or list the interpreter builds (bytes or elements).
 pub const MAX_VALUE_LEN: usize = 1 << 30;
 
 #[derive(Clone)]
 pub(crate) enum CommandKind {
-    Native(NativeFn),
+    /// A builtin, and whether Tcl runs it inline (not a level; `INLINE`).
+    Native(NativeFn, bool),
     Host(HostFn),
     Numeric(usize, Rc<str>, NumericFn),
     Proc(Rc<Proc>),
@@ -81,7 +137,10 @@ pub struct Interp {
     pub(crate) frames: Vec<Frame>,
     /// Index into `frames` of the frame whose variables are visible now.
     pub(crate) cur: usize,
+    /// How deep the evaluator is (see `MAX_NATIVE_DEPTH`).
     pub(crate) depth: usize,
+    /// Tcl's nesting level, and its limit (see `DEFAULT_MAX_DEPTH`).
+    pub(crate) levels: usize,
     pub max_depth: usize,
     /// Optional cap on the number of commands run (for fuzzing and
     /// sandboxes): past it every command fails.
@@ -132,6 +191,7 @@ impl Interp {
             }],
             cur: 0,
             depth: 0,
+            levels: 0,
             max_depth: DEFAULT_MAX_DEPTH,
             max_commands: None,
             interrupt: None,
@@ -154,7 +214,7 @@ impl Interp {
     }
 
     pub fn register(&mut self, name: &str, f: NativeFn, usage: &str, summary: &str) {
-        self.set_command(name.to_string(), CommandKind::Native(f));
+        self.set_command(name.to_string(), CommandKind::Native(f, INLINE.contains(&name)));
         self.set_help(name, usage, summary);
     }
 
@@ -364,14 +424,20 @@ impl Interp {
             Word::Concat(parts) => {
                 let mut out = String::new();
                 for p in parts {
-                    match p {
-                        Part::Lit(s) => out.push_str(s),
-                        Part::Var(name) => out.push_str(self.get_var_name(name)?.as_str()),
-                        Part::Cmd(s) => out.push_str(self.eval_nested(s)?.as_str()),
-                    }
-                    if out.len() > MAX_VALUE_LEN {
-                        return Err(too_long());
-                    }
+                    let v;
+                    let piece = match p {
+                        Part::Lit(s) => &**s,
+                        Part::Var(name) => {
+                            v = self.get_var_name(name)?;
+                            v.as_str()
+                        }
+                        Part::Cmd(s) => {
+                            v = self.eval_nested(s)?;
+                            v.as_str()
+                        }
+                    };
+                    check_len(out.len() + piece.len())?;
+                    out.push_str(piece);
                 }
                 Ok(Value::from_string(out))
             }
@@ -387,8 +453,8 @@ impl Interp {
     }
 
     pub(crate) fn enter(&mut self) -> Result<(), Exception> {
-        if self.depth >= self.max_depth {
-            return Err(Exception::error("too many nested evaluations (infinite loop?)"));
+        if self.depth >= MAX_NATIVE_DEPTH {
+            return Err(too_deep());
         }
         if let Some(flag) = self.interrupt
             && flag.load(std::sync::atomic::Ordering::Relaxed)
@@ -417,13 +483,25 @@ impl Interp {
             }
         };
         self.enter()?;
+        let level = !matches!(cmd, CommandKind::Native(_, true));
+        if level {
+            if self.levels >= self.max_depth {
+                self.depth -= 1;
+                return Err(too_deep());
+            }
+            self.levels += 1;
+        }
         let r = match cmd {
-            CommandKind::Native(f) => f(self, argv),
+            CommandKind::Native(f, _) => f(self, argv),
             CommandKind::Host(f) => f(self, argv),
             CommandKind::Numeric(arity, usage, f) => call_numeric(self, arity, &usage, &f, argv),
             CommandKind::Proc(p) => self.call_proc(&p, argv),
         };
         self.depth -= 1;
+        self.levels -= level as usize;
+        if crate::mem::over() || value::has_pending() {
+            return after_growth(r);
+        }
         r
     }
 
@@ -802,6 +880,10 @@ fn call_numeric(
     })
 }
 
+fn too_deep() -> Exception {
+    Exception::error("too many nested evaluations (infinite loop?)")
+}
+
 /// The error for output that could not be written to stdout.
 fn stdout_error(e: &std::io::Error) -> Exception {
     let err = Exception::error(format!("error writing \"stdout\": {e}"));
@@ -813,28 +895,56 @@ fn stdout_error(e: &std::io::Error) -> Exception {
     }
 }
 
-fn too_long() -> Exception {
+/// A command's result when it left a string form that could not be made,
+/// or the heap past the budget: an error, unless one is already on its way
+/// (with its trace) or the script is exiting.
+#[cold]
+fn after_growth(r: TclResult) -> TclResult {
+    let pending = value::take_pending();
+    match r {
+        Err(e) if matches!(e.code, Code::Error | Code::Exit(_)) => Err(e),
+        _ => match pending {
+            Some(e) => Err(e),
+            None => Err(crate::mem::check().map_err(Exception::from).unwrap_err()),
+        },
+    }
+}
+
+pub(crate) fn too_long() -> Exception {
     Exception::error(format!(
         "string too long: rayshell values are limited to {MAX_VALUE_LEN} bytes"
     ))
 }
 
+/// Checks a string of `n` bytes against the value cap and the budget.
+#[inline]
 pub(crate) fn check_len(n: usize) -> Result<(), Exception> {
-    if n > MAX_VALUE_LEN { Err(too_long()) } else { Ok(()) }
+    // Small growth is left to the check after each command.
+    if n < 1 << 16 {
+        return Ok(());
+    }
+    if n > MAX_VALUE_LEN {
+        return Err(too_long());
+    }
+    Ok(crate::mem::reserve(n)?)
 }
 
 /// The most elements a list may have (64 Mi: a runaway `lappend` loop
 /// stops at a few GiB, not when the machine runs out).
 pub const MAX_LIST_LEN: usize = 1 << 26;
 
+/// Checks a list of `n` elements against the list cap and the budget (the
+/// elements' own bytes are the caller's to check).
 pub(crate) fn check_list_len(n: usize) -> Result<(), Exception> {
     if n > MAX_LIST_LEN {
-        Err(Exception::error(format!(
+        return Err(Exception::error(format!(
             "list too long: rayshell lists are limited to {MAX_LIST_LEN} elements"
-        )))
-    } else {
-        Ok(())
+        )));
     }
+    if n < 1 << 13 {
+        return Ok(());
+    }
+    Ok(crate::mem::reserve_n(n, std::mem::size_of::<Value>())?)
 }
 
 pub(crate) fn add_trace(

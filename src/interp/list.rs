@@ -30,7 +30,10 @@ pub fn parse_list(s: &str) -> Result<Vec<Value>, Exception> {
         if i >= b.len() {
             return Ok(out);
         }
-        super::eval::check_list_len(out.len() + 1)?;
+        if out.len() % 4096 == 0 {
+            super::eval::check_list_len(out.len() + 1)?;
+            crate::mem::reserve_n(4096, Value::BYTES)?;
+        }
         match b[i] {
             b'{' => {
                 let start = i + 1;
@@ -238,14 +241,51 @@ pub fn append_element(out: &mut String, s: &str, quote_hash: bool) {
 
 /// The string form of a list.
 pub fn format_list(items: &[Value]) -> String {
-    let mut out = String::new();
+    format_list_checked(items).unwrap_or_default()
+}
+
+/// `format_list`, refusing a string past the value cap or the memory
+/// budget before building it. Nested lists get their string forms bottom
+/// up, without recursion: a list nested a million deep prints too.
+pub(crate) fn format_list_checked(items: &[Value]) -> Result<String, Exception> {
+    format_nested(items);
+    let mut raw = items.len();
+    for v in items {
+        raw = raw.saturating_add(v.as_str().len());
+        if v.is_unformatted_list() {
+            // An element too long to print: so is this list.
+            return Err(super::value::take_pending().unwrap_or_else(super::eval::too_long));
+        }
+    }
+    super::eval::check_len(raw)?;
+    let mut out = String::with_capacity(raw + 2);
     for (i, v) in items.iter().enumerate() {
         if i > 0 {
             out.push(' ');
         }
         append_element(&mut out, v.as_str(), i == 0);
     }
-    out
+    super::eval::check_len(out.len())?;
+    Ok(out)
+}
+
+/// Makes the string forms of the unformatted lists nested in `items`,
+/// innermost first, with an explicit stack.
+fn format_nested(items: &[Value]) {
+    let mut stack: Vec<(Value, bool)> =
+        items.iter().filter(|v| v.is_unformatted_list()).map(|v| (v.clone(), false)).collect();
+    while let Some((v, children_done)) = stack.pop() {
+        if children_done {
+            v.as_str();
+        } else if v.is_unformatted_list() {
+            stack.push((v.clone(), true));
+            if let super::value::Rep::List(l) = &*v.rep() {
+                stack.extend(
+                    l.iter().filter(|c| c.is_unformatted_list()).map(|c| (c.clone(), false)),
+                );
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -11,12 +11,12 @@
 use std::io::Read;
 use std::rc::Rc;
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, SyncSender, sync_channel};
 
 use smallvec::SmallVec;
 
 use super::error::{Code, Exception, TclResult};
-use super::eval::{CommandKind, Interp, NumericFn, add_trace};
+use super::eval::{CommandKind, INTERRUPT_CODE, Interp, NumericFn, add_trace};
 use super::number::{self, Num};
 use super::parser::{Parser, Plain, PlainScanner, PlainWord};
 use super::value::Value;
@@ -69,6 +69,20 @@ fn safe_cut(buf: &[u8]) -> Option<usize> {
     None
 }
 
+fn window_room(bytes: usize) -> std::io::Result<()> {
+    if bytes > super::eval::MAX_VALUE_LEN {
+        return Err(std::io::Error::other(format!(
+            "a command longer than {} bytes",
+            super::eval::MAX_VALUE_LEN
+        )));
+    }
+    crate::mem::reserve(bytes).map_err(std::io::Error::other)
+}
+
+/// What the scanner sends: a window, or why reading stopped (with the line
+/// the unread text starts on).
+type Scanned = Result<Batch, (u32, std::io::Error)>;
+
 /// One window of source with its plain commands already scanned.
 struct Batch {
     window: Arc<str>,
@@ -84,7 +98,7 @@ struct Batch {
 /// The UTF-8 byte order mark.
 pub const BOM: &[u8] = b"\xef\xbb\xbf";
 
-fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<std::io::Result<Batch>>) {
+fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<Scanned>) {
     let mut buf: Vec<u8> = Vec::new();
     let mut eof = false;
     let mut line = 1u32;
@@ -93,11 +107,17 @@ fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<std::io::Result<B
     loop {
         if !eof {
             let want = WINDOW.max(buf.len());
+            // A command with no end in sight (`/dev/zero`): stop before it
+            // passes the value cap or the memory budget.
+            if let Err(e) = window_room(buf.len() + want) {
+                let _ = tx.send(Err((line, e)));
+                return;
+            }
             let n0 = buf.len();
             match reader.take(want as u64).read_to_end(&mut buf) {
                 Ok(_) => eof = buf.len() == n0,
                 Err(e) => {
-                    let _ = tx.send(Err(e));
+                    let _ = tx.send(Err((line, e)));
                     return;
                 }
             }
@@ -168,18 +188,39 @@ impl Interp {
         })
     }
 
-    /// Runs a script read from `reader` (a file, stdin), streaming.
-    pub fn eval_reader(&mut self, file: Option<&str>, reader: &mut (dyn Read + Send)) -> TclResult {
+    /// Runs a script read from `reader` (a file, stdin), streaming. The
+    /// reading thread is not waited for: on an interrupt it may be blocked
+    /// in a read for ever (a pipe nobody writes to); it ends at its next
+    /// window otherwise, finding the receiver gone.
+    pub fn eval_reader(
+        &mut self,
+        file: Option<&str>,
+        mut reader: Box<dyn Read + Send>,
+    ) -> TclResult {
         self.with_script_file(file, |interp, file| {
-            std::thread::scope(|scope| {
-                let (tx, rx) = sync_channel(2);
-                scope.spawn(move || scan_windows(reader, tx));
-                let r = interp.run_batches(&rx, file);
-                // Dropping the receiver stops the scanner before the scope joins.
-                drop(rx);
-                r
-            })
+            let (tx, rx) = sync_channel(2);
+            std::thread::Builder::new()
+                .name("scanner".into())
+                .spawn(move || scan_windows(&mut *reader, tx))
+                .map_err(|e| Exception::error(format!("couldn't start reading: {e}")))?;
+            interp.run_batches(&rx, file)
         })
+    }
+
+    /// The next window from the scanner; waiting for it can be interrupted.
+    fn next_batch(&self, rx: &Receiver<Scanned>) -> Result<Option<Scanned>, Exception> {
+        let Some(flag) = self.interrupt else { return Ok(rx.recv().ok()) };
+        loop {
+            match rx.recv_timeout(std::time::Duration::from_millis(50)) {
+                Ok(b) => return Ok(Some(b)),
+                Err(RecvTimeoutError::Disconnected) => return Ok(None),
+                Err(RecvTimeoutError::Timeout) => {
+                    if flag.load(std::sync::atomic::Ordering::Relaxed) {
+                        return Err(Exception::error("interrupted").with_error_code(INTERRUPT_CODE));
+                    }
+                }
+            }
+        }
     }
 
     fn with_script_file(
@@ -204,21 +245,23 @@ impl Interp {
         }
     }
 
-    fn run_batches(
-        &mut self,
-        rx: &Receiver<std::io::Result<Batch>>,
-        file: &Option<Rc<str>>,
-    ) -> TclResult {
+    fn run_batches(&mut self, rx: &Receiver<Scanned>, file: &Option<Rc<str>>) -> TclResult {
         let mut st = StreamState::default();
         // A command that continues past its window: its text and line.
         let mut carry: Option<(String, u32)> = None;
-        for batch in rx.iter() {
-            let batch = batch.map_err(|e| {
+        while let Some(batch) = self.next_batch(rx)? {
+            let batch = batch.map_err(|(line, e)| {
                 let name = file.as_deref().unwrap_or("stdin");
-                Exception::error(format!("error reading \"{name}\": {e}"))
+                let mut err = Exception::error(format!("error reading \"{name}\": {e}"));
+                // Where the command that could not be read starts.
+                let line = carry.as_ref().map_or(line, |c| c.1);
+                err.loc = Some(super::error::Loc { file: file.clone(), line });
+                err
             })?;
             let (text, line): (Rc<str>, u32) = match carry.take() {
                 Some((mut rest, line)) => {
+                    // One command longer than any value may be.
+                    super::eval::check_len(rest.len() + batch.window.len())?;
                     rest.push_str(&batch.window);
                     (Rc::from(rest), line)
                 }

@@ -27,6 +27,36 @@ struct Inner {
     rep: RefCell<Rep>,
 }
 
+impl Drop for Inner {
+    /// Frees the lists nested in a list with a work list instead of
+    /// recursion: a list nested a million deep would overflow the stack.
+    fn drop(&mut self) {
+        let Rep::List(l) = self.rep.get_mut() else { return };
+        let Some(items) = Rc::get_mut(l) else { return };
+        if !items.iter().any(Value::owns_nested_list) {
+            return;
+        }
+        let mut work = std::mem::take(items);
+        while let Some(v) = work.pop() {
+            if let Ok(mut inner) = Rc::try_unwrap(v.0)
+                && let Rep::List(l) = inner.rep.get_mut()
+                && let Some(items) = Rc::get_mut(l)
+            {
+                // `inner` goes with an empty list; its elements wait here.
+                work.append(items);
+            }
+        }
+    }
+}
+
+impl Value {
+    /// Whether dropping this value would drop a non-empty list.
+    fn owns_nested_list(&self) -> bool {
+        Rc::strong_count(&self.0) == 1
+            && matches!(&*self.0.rep.borrow(), Rep::List(l) if Rc::strong_count(l) == 1 && !l.is_empty())
+    }
+}
+
 /// The cached internal representation. Replacing it ("shimmering") is always
 /// allowed once the string form exists, because the string is the truth.
 #[derive(Clone)]
@@ -44,9 +74,25 @@ pub(crate) enum Rep {
 
 thread_local! {
     static EMPTY: Value = Value::from_string(String::new());
+    /// The error of a string form that could not be made (see `as_str`).
+    static PENDING: RefCell<Option<Exception>> = const { RefCell::new(None) };
+}
+
+pub(crate) fn has_pending() -> bool {
+    PENDING.with(|p| p.borrow().is_some())
+}
+
+/// The error left by a string form that could not be made, if any.
+pub(crate) fn take_pending() -> Option<Exception> {
+    PENDING.with(|p| p.borrow_mut().take())
 }
 
 impl Value {
+    /// Heap bytes of one value of its own (a short string or a number):
+    /// the handle, the shared box and the allocator's header.
+    pub(crate) const BYTES: usize =
+        std::mem::size_of::<Value>() + std::mem::size_of::<Inner>() + 2 * 8 + 16;
+
     pub fn empty() -> Value {
         EMPTY.with(|v| v.clone())
     }
@@ -92,13 +138,33 @@ impl Value {
     }
 
     /// The string form, generated from the internal form on first use.
+    ///
+    /// A list whose string would pass the value cap or the memory budget
+    /// has none: this returns "" (not cached) and leaves the error pending,
+    /// and the command that asked fails with it when it returns
+    /// (`take_pending`).
     pub fn as_str(&self) -> &str {
-        self.0.string.get_or_init(|| match &*self.0.rep.borrow() {
+        if let Some(s) = self.0.string.get() {
+            return s;
+        }
+        let s = match &*self.0.rep.borrow() {
             Rep::Int(i) => CompactString::from(itoa::Buffer::new().format(*i)),
             Rep::Double(d) => CompactString::from(number::format_double(*d)),
-            Rep::List(items) => CompactString::from(list::format_list(items)),
+            Rep::List(items) => match list::format_list_checked(items) {
+                Ok(s) => CompactString::from(s),
+                Err(e) => {
+                    PENDING.with(|p| *p.borrow_mut() = Some(e));
+                    return "";
+                }
+            },
             _ => CompactString::default(),
-        })
+        };
+        self.0.string.get_or_init(|| s)
+    }
+
+    /// Whether this is a list whose string form is not made yet.
+    pub(crate) fn is_unformatted_list(&self) -> bool {
+        self.0.string.get().is_none() && matches!(&*self.0.rep.borrow(), Rep::List(_))
     }
 
     pub fn is_empty(&self) -> bool {
@@ -115,9 +181,12 @@ impl Value {
     }
 
     pub(crate) fn set_rep(&self, rep: Rep) {
-        // The string must exist before the old representation is dropped.
+        // The string must exist before the old representation is dropped
+        // (it may not, for a list too long to print: keep the list then).
         self.as_str();
-        *self.0.rep.borrow_mut() = rep;
+        if self.0.string.get().is_some() {
+            *self.0.rep.borrow_mut() = rep;
+        }
     }
 
     /// The value as a number, if its string is one (cached).

@@ -148,20 +148,21 @@ impl Media {
 pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let cam = &scene.camera;
     let r = job.rect(cam.width, cam.height);
-    let own;
-    let out = match job.canvas {
-        Some(c) => c,
-        None => {
-            own = Mutex::new(vec![Vec3::ZERO; r.pixels() as usize]);
-            &own
-        }
+    let own = match job.canvas {
+        Some(_) => None,
+        None => Some(Mutex::new(vec![Vec3::ZERO; r.pixels() as usize])),
     };
+    let out = job.canvas.or(own.as_ref()).expect("one of the two");
     let stats = per_pixel(cam.width, cam.height, job, out, |x, y, st| {
         st.primary += 1;
         st.limit = st.total() + MAX_RAYS_PER_PIXEL;
         trace(scene, &cam.ray(x, y), 0, 1.0, Media::default(), st)
     })?;
-    let pixels = out.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    // The picture itself, not a copy of it (64 Mpixel are 768 MiB).
+    let pixels = match own {
+        Some(m) => m.into_inner().unwrap_or_else(|e| e.into_inner()),
+        None => out.lock().unwrap_or_else(|e| e.into_inner()).clone(),
+    };
     Some((Image { width: r.width(), height: r.height(), pixels }, stats))
 }
 

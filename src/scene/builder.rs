@@ -32,6 +32,13 @@ pub enum SceneError {
     /// `camera_up` (the vector) along the view direction (the other).
     UpParallel(Vec3, Vec3),
     Invalid(String),
+    Memory(crate::mem::OverBudget),
+}
+
+impl From<crate::mem::OverBudget> for SceneError {
+    fn from(e: crate::mem::OverBudget) -> SceneError {
+        SceneError::Memory(e)
+    }
 }
 
 impl std::fmt::Display for SceneError {
@@ -53,6 +60,7 @@ impl std::fmt::Display for SceneError {
                 )
             }
             SceneError::Invalid(s) => f.write_str(s),
+            SceneError::Memory(e) => write!(f, "{e}"),
         }
     }
 }
@@ -293,6 +301,7 @@ impl Builder {
         if self.vertices.len() >= u32::MAX as usize - 1 {
             return Err(SceneError::Capacity { what: "vertices" });
         }
+        crate::mem::room(&self.vertices, 1)?;
         self.vertices.push(position(p)?);
         Ok(self.vertices.len() - 1)
     }
@@ -302,6 +311,7 @@ impl Builder {
         if self.normals.len() >= u32::MAX as usize - 1 {
             return Err(SceneError::Capacity { what: "normals" });
         }
+        crate::mem::room(&self.normals, 1)?;
         self.normals.push(check_nonzero(n, "a normal")?.normalize());
         Ok(self.normals.len() - 1)
     }
@@ -319,6 +329,7 @@ impl Builder {
     pub fn tri(&mut self, v: [i64; 3]) -> Result<(), SceneError> {
         let v = [self.vertex_index(v[0])?, self.vertex_index(v[1])?, self.vertex_index(v[2])?];
         let material = self.material_index();
+        crate::mem::room(&self.prims, 1)?;
         self.prims.push(Prim::Tri { v, n: [Triangle::FLAT; 3], material });
         Ok(())
     }
@@ -332,6 +343,7 @@ impl Builder {
             n[k] = self.normal_index(vn[k].1)?;
         }
         let material = self.material_index();
+        crate::mem::room(&self.prims, 1)?;
         self.prims.push(Prim::Tri { v, n, material });
         Ok(())
     }
@@ -385,6 +397,7 @@ impl Builder {
                 "sphere radius must be positive, got {radius}"
             )));
         }
+        crate::mem::room(&self.prims, 1)?;
         self.prims.push(Prim::Sphere { center, radius, material: self.material_index() });
         Ok(())
     }
@@ -415,6 +428,8 @@ impl Builder {
         if self.mesh_vertices.len() + n_v >= u32::MAX as usize {
             return Err(SceneError::Capacity { what: "mesh vertices" });
         }
+        // The placed positions, and the normals to be summed.
+        crate::mem::reserve_n(n_v, 2 * size_of::<DVec3>() + size_of::<Vec3>())?;
         let positions: Vec<DVec3> = mesh.positions.iter().map(|&p| place(p)).collect();
         if positions.iter().any(|&p| position(p).is_err()) {
             return Err(SceneError::NotFinite);
@@ -453,6 +468,8 @@ impl Builder {
         };
         let vbase = self.mesh_vertices.len() as u32;
         let material = self.material_index();
+        crate::mem::room(&self.prims, mesh.tris.len())?;
+        crate::mem::room(&self.mesh_vertices, positions.len())?;
         self.prims.reserve(mesh.tris.len());
         let mut added = 0;
         for (k, t) in mesh.tris.iter().enumerate() {
@@ -481,6 +498,7 @@ impl Builder {
 
     pub fn add_light(&mut self, light: Light) -> Result<(), SceneError> {
         light.check()?;
+        crate::mem::room(&self.lights, 1)?;
         self.lights.push(light);
         Ok(())
     }
@@ -490,6 +508,7 @@ impl Builder {
         if self.materials.len() >= u32::MAX as usize {
             return Err(SceneError::Capacity { what: "materials" });
         }
+        crate::mem::room(&self.materials, 1)?;
         self.materials.push(m);
         Ok(())
     }

@@ -73,6 +73,11 @@ pub struct Cli {
     /// Leave frames whose output file already exists (reruns are idempotent).
     #[arg(long, requires = "frames")]
     pub skip_existing: bool,
+    /// Memory the run may use: 512M, 2G, 50% (of physical memory). Growth
+    /// past it is a script error, never a crash [default: 75% of physical
+    /// memory, and at most half of what `ulimit -v` leaves].
+    #[arg(long, value_name = "SIZE", value_parser = super::budget::parse_size)]
+    pub max_memory: Option<u64>,
     /// Arguments for the script, after `--` (`$argv`, `$argc`).
     #[arg(last = true)]
     pub args: Vec<String>,

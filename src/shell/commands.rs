@@ -446,7 +446,17 @@ fn mesh_command(b: &mut Builder, argv: &[Value]) -> Result<Value, Exception> {
             }
         }
     }
-    let data = super::obj::load(argv[1].as_str()).map_err(Exception::error)?;
+    let path = argv[1].as_str().to_string();
+    let p = path.clone();
+    let data = super::feedback::blocking(&path, move || super::obj::load(&p))
+        .map_err(|_| super::interrupted())?
+        .map_err(|e| {
+            if super::feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
+                super::interrupted()
+            } else {
+                Exception::error(e)
+            }
+        })?;
     let n = b.add_mesh(&data, scale, translate, flat).map_err(scene_err)?;
     Ok(Value::from_int(n as i64))
 }
@@ -533,6 +543,8 @@ fn render_command(
         st.since_last = Instant::now();
         return Ok(Value::empty());
     }
+    // The frozen shapes and the BVH (an upper bound per primitive).
+    crate::mem::reserve_n(b.prims.len(), BVH_BYTES_PER_PRIM)?;
     let scene = Scene::freeze(b).map_err(scene_err)?;
     // Open the output before the work, so a bad path fails at once.
     let mut out = super::AtomicFile::create(path).map_err(write_err)?;
@@ -543,6 +555,11 @@ fn render_command(
     let mut st = state.borrow_mut();
     // The old picture goes before the new one is traced (peak memory).
     st.last_picture = None;
+    // The picture in floats, then in bytes for the file.
+    let pixels = crop.map_or(width as usize * height as usize, |r| {
+        (r.x1 - r.x0) as usize * (r.y1 - r.y0) as usize
+    });
+    crate::mem::reserve_n(pixels, 12 + 3)?;
     let done = st.feedback.watch(path, (width, height), progressive, |job| {
         if heatmap { render::render_heatmap(&scene, job) } else { render::render(&scene, job) }
     });
@@ -575,6 +592,10 @@ fn render_command(
     st.since_last = Instant::now();
     Ok(Value::empty())
 }
+
+/// What freezing a scene takes per primitive, at most: its shape, its leaf
+/// record, its share of the nodes and of the build's scratch.
+const BVH_BYTES_PER_PRIM: usize = 160;
 
 /// The session's pool of `n` threads, made on first use.
 fn pool(

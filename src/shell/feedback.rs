@@ -2,9 +2,10 @@
 //! stderr is a terminal, else plain or JSON lines; the live preview window;
 //! and Ctrl-C, which cancels the render (or the script) in progress.
 
-use std::io::IsTerminal;
-use std::sync::Mutex;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{LazyLock, Mutex};
 use std::time::{Duration, Instant};
 
 use glam::Vec3;
@@ -17,14 +18,96 @@ use crate::render::{Job, Rect};
 /// stop soon after. The REPL clears it once it has reported the interrupt.
 pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
-/// Routes Ctrl-C to `INTERRUPTED`; a second one while the first is still
-/// pending exits at once with status 130.
+/// Set while the REPL runs a line: a second Ctrl-C then does not end the
+/// session (the first is on its way).
+pub static IN_REPL: AtomicBool = AtomicBool::new(false);
+
+/// Temporary files being written (`AtomicFile`), removed by `exit_now`.
+static TEMPS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Standard output's buffer, shared so that `exit_now` can flush it.
+pub static STDOUT: LazyLock<Mutex<std::io::BufWriter<std::io::Stdout>>> =
+    LazyLock::new(|| Mutex::new(std::io::BufWriter::with_capacity(1 << 16, std::io::stdout())));
+
+/// Routes Ctrl-C (SIGINT, SIGTERM, SIGHUP) to `INTERRUPTED`; a second one
+/// while the first is still pending (outside the REPL) ends the process at
+/// once, cleanly (`exit_now`). Writes past `ulimit -f` fail with an error
+/// instead of SIGXFSZ killing the process.
 pub fn catch_interrupts() {
     let _ = ctrlc::set_handler(|| {
-        if INTERRUPTED.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
+        if INTERRUPTED.swap(true, Ordering::SeqCst) && !IN_REPL.load(Ordering::SeqCst) {
+            exit_now();
         }
     });
+    let ignored = std::sync::Arc::new(AtomicBool::new(false));
+    let _ = signal_hook::flag::register(signal_hook::consts::SIGXFSZ, ignored);
+}
+
+/// Ends the process as interrupted (status 130): temporary files removed,
+/// buffered output flushed.
+pub fn exit_now() -> ! {
+    for p in TEMPS.lock().unwrap_or_else(|e| e.into_inner()).drain(..) {
+        let _ = std::fs::remove_file(p);
+    }
+    if let Ok(mut out) = STDOUT.try_lock() {
+        let _ = out.flush();
+    }
+    std::process::exit(super::EXIT_INTERRUPTED)
+}
+
+pub fn add_temp(p: &Path) {
+    TEMPS.lock().unwrap_or_else(|e| e.into_inner()).push(p.to_path_buf());
+}
+
+pub fn remove_temp(p: &Path) {
+    TEMPS.lock().unwrap_or_else(|e| e.into_inner()).retain(|t| t != p);
+}
+
+/// Runs `f`, an open or read of `path`, so that Ctrl-C can end the wait:
+/// a FIFO with no writer blocks for ever. Regular files are read here;
+/// anything else on a thread of its own, left behind (blocked, or done
+/// later) on an interrupt, which is `Err`.
+pub fn blocking<T: Send + 'static>(
+    path: &str,
+    f: impl FnOnce() -> T + Send + 'static,
+) -> Result<T, Interrupted> {
+    if std::fs::metadata(path).is_ok_and(|m| m.is_file() || m.is_dir()) {
+        return Ok(f());
+    }
+    let (tx, rx) = std::sync::mpsc::channel();
+    let spawned = std::thread::Builder::new().name("open".into()).spawn(move || {
+        let _ = tx.send(f());
+    });
+    if spawned.is_err() {
+        return Err(Interrupted);
+    }
+    loop {
+        match rx.recv_timeout(Duration::from_millis(50)) {
+            Ok(v) => return Ok(v),
+            Err(_) if INTERRUPTED.load(Ordering::Relaxed) => return Err(Interrupted),
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => return Err(Interrupted),
+        }
+    }
+}
+
+/// A wait ended by Ctrl-C.
+#[derive(Debug)]
+pub struct Interrupted;
+
+/// A writer that fails once Ctrl-C has come: a long PNG encode stops.
+pub struct Cancellable<W>(pub W);
+
+impl<W: Write> Write for Cancellable<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if INTERRUPTED.load(Ordering::Relaxed) {
+            return Err(std::io::Error::other("interrupted"));
+        }
+        self.0.write(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.0.flush()
+    }
 }
 
 /// How progress is reported on stderr.

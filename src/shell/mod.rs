@@ -26,6 +26,7 @@ macro_rules! show_line {
 }
 
 mod args;
+mod budget;
 mod commands;
 pub mod docs;
 mod feedback;
@@ -78,14 +79,18 @@ pub fn on_big_stack<T: Send + 'static>(
         .join()
 }
 
-/// Real stdout (buffered) and stderr.
+/// Real stdout (buffered: `feedback::STDOUT`) and stderr.
 pub struct StdHost {
-    out: std::io::BufWriter<std::io::Stdout>,
+    out: &'static std::sync::Mutex<std::io::BufWriter<std::io::Stdout>>,
 }
 
 impl StdHost {
     pub fn new() -> StdHost {
-        StdHost { out: std::io::BufWriter::with_capacity(1 << 16, std::io::stdout()) }
+        StdHost { out: &feedback::STDOUT }
+    }
+
+    fn out(&self) -> std::sync::MutexGuard<'_, std::io::BufWriter<std::io::Stdout>> {
+        self.out.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
 
@@ -97,12 +102,12 @@ impl Default for StdHost {
 
 impl Host for StdHost {
     fn stdout(&mut self, s: &str) -> std::io::Result<()> {
-        self.out.write_all(s.as_bytes())
+        self.out().write_all(s.as_bytes())
     }
     /// Messages on stderr never fail the script: a closed or full stderr
     /// (`2>&1 | head -1`, `2>/dev/full`) only loses them.
     fn stderr(&mut self, s: &str) -> std::io::Result<()> {
-        let _ = self.out.flush();
+        let _ = self.out().flush();
         let _ = std::io::stderr().write_all(s.as_bytes());
         Ok(())
     }
@@ -110,7 +115,7 @@ impl Host for StdHost {
         read_text(path)
     }
     fn flush(&mut self) -> std::io::Result<()> {
-        self.out.flush()
+        self.out().flush()
     }
 }
 
@@ -138,7 +143,9 @@ impl Host for CaptureHost {
 /// Reads a file as text; bytes that are not UTF-8 become U+FFFD rather
 /// than an error, as a binary-garbage scene should give a Tcl error.
 pub fn read_text(path: &str) -> std::io::Result<String> {
-    let mut bytes = std::fs::read(path)?;
+    let p = path.to_string();
+    let mut bytes = feedback::blocking(path, move || read_bounded(&p))
+        .map_err(|_| std::io::Error::other("interrupted"))??;
     // A UTF-8 byte order mark is not text (tclsh's `source` skips it).
     if bytes.starts_with(b"\xef\xbb\xbf") {
         bytes.drain(..3);
@@ -147,6 +154,30 @@ pub fn read_text(path: &str) -> std::io::Result<String> {
         Ok(s) => s,
         Err(e) => String::from_utf8_lossy(e.as_bytes()).into_owned(),
     })
+}
+
+/// Reads a whole file, refusing one past the value cap or the memory
+/// budget (`/dev/zero` has no end) and stopping at Ctrl-C.
+fn read_bounded(path: &str) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    const CHUNK: usize = 1 << 20;
+    let mut f = std::fs::File::open(path)?;
+    let mut bytes = Vec::new();
+    loop {
+        if bytes.len() > crate::interp::MAX_VALUE_LEN {
+            return Err(std::io::Error::other(format!(
+                "file longer than {} bytes",
+                crate::interp::MAX_VALUE_LEN
+            )));
+        }
+        crate::mem::room(&bytes, CHUNK).map_err(std::io::Error::other)?;
+        if feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
+            return Err(std::io::Error::other("interrupted"));
+        }
+        if (&mut f).take(CHUNK as u64).read_to_end(&mut bytes)? == 0 {
+            return Ok(bytes);
+        }
+    }
 }
 
 /// An interpreter with the rayshell commands, and the scene they change.
@@ -367,6 +398,8 @@ pub fn exit_code_of(e: &Exception) -> i32 {
     match e.error_code().as_str() {
         c if c.starts_with("POSIX EPIPE") => EXIT_BROKEN_PIPE,
         INTERRUPT_CODE => EXIT_INTERRUPTED,
+        // Whatever failed on the way out of an interrupt (a read, a write).
+        _ if feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) => EXIT_INTERRUPTED,
         IO_ERROR_CODE => EXIT_IO,
         _ => EXIT_SCRIPT,
     }
@@ -391,6 +424,7 @@ pub fn main() -> ExitCode {
         say!("raytrace: cannot set up {n} threads: {e}");
         return ExitCode::from(2);
     }
+    budget::apply(cli.max_memory);
     feedback::catch_interrupts();
     // The interpreter runs on a thread with a large stack (see above).
     let code = match on_big_stack(move || run(cli)) {
@@ -490,21 +524,26 @@ fn run(cli: Cli) -> i32 {
                     );
                     return EXIT_SCRIPT;
                 }
-                let mut f = match std::fs::File::open(path) {
+                let p = path.clone();
+                let opened = match feedback::blocking(&path_str, move || std::fs::File::open(p)) {
+                    Ok(r) => r,
+                    Err(_) => return EXIT_INTERRUPTED,
+                };
+                let f = match opened {
                     Ok(f) => f,
                     Err(e) => {
                         say!("raytrace: couldn't read file \"{path_str}\": {}", io_reason(&e));
                         return EXIT_SCRIPT;
                     }
                 };
-                let r = interp.eval_reader(Some(&path_str), &mut f);
+                let r = interp.eval_reader(Some(&path_str), Box::new(f));
                 (r, Some(path_str), None)
             }
             None if std::io::stdin().is_terminal() => return repl::run(&mut interp, &state),
             // No script, or `-`: the script is standard input.
             _ => {
                 set_argv(&mut interp, "raytrace", &cli.args);
-                let r = interp.eval_reader(Some("stdin"), &mut std::io::stdin());
+                let r = interp.eval_reader(Some("stdin"), Box::new(std::io::stdin()));
                 (r, Some("stdin".to_string()), Some(1))
             }
         }
@@ -512,14 +551,15 @@ fn run(cli: Cli) -> i32 {
     let r = match (r, &output) {
         (Ok(_), Some(out)) => {
             let argv = [Value::from("render"), Value::from(out.to_string_lossy().as_ref())];
-            interp.invoke(&argv).map_err(|e| match &file {
+            interp.invoke(&argv).map_err(|e| match (&file, &cli.command) {
                 // The script's last line (read again only for the message).
-                Some(f) => {
+                (Some(f), _) => {
                     let line =
                         end.unwrap_or_else(|| std::fs::read(f).map(|b| last_line(&b)).unwrap_or(1));
                     at_end_of(e, f, line)
                 }
-                None => e,
+                (None, Some(cmd)) => at_end_of(e, "-c", last_line(cmd.as_bytes())),
+                (None, None) => e,
             })
         }
         (r, _) => r,
@@ -574,7 +614,7 @@ fn check_output(path: &std::path::Path) -> Result<(), String> {
 pub struct AtomicFile {
     tmp: std::path::PathBuf,
     path: std::path::PathBuf,
-    file: Option<std::io::BufWriter<std::fs::File>>,
+    file: Option<std::io::BufWriter<feedback::Cancellable<std::fs::File>>>,
 }
 
 impl AtomicFile {
@@ -602,7 +642,9 @@ impl AtomicFile {
             if tmp_name.len() <= 255 { tmp_name } else { format!(".rayshell.{pid}.tmp") };
         let tmp = dir.join(tmp_name);
         let file = std::fs::File::create(&tmp)?;
-        let mut out = AtomicFile { tmp, path: p, file: Some(std::io::BufWriter::new(file)) };
+        feedback::add_temp(&tmp);
+        let file = std::io::BufWriter::new(feedback::Cancellable(file));
+        let mut out = AtomicFile { tmp, path: p, file: Some(file) };
         if let Some(m) = existing.filter(|m| m.is_file()) {
             std::fs::set_permissions(&out.tmp, m.permissions())?;
         }
@@ -610,16 +652,19 @@ impl AtomicFile {
         Ok(out)
     }
 
-    pub fn writer(&mut self) -> &mut std::io::BufWriter<std::fs::File> {
+    /// Where the picture goes; writes fail once Ctrl-C has come.
+    pub fn writer(&mut self) -> &mut impl Write {
         self.file.as_mut().expect("not committed yet")
     }
 
     /// Flushes, syncs and renames the file into place.
     pub fn commit(mut self) -> std::io::Result<()> {
         let w = self.file.take().expect("committed once");
-        let file = w.into_inner().map_err(|e| e.into_error())?;
+        let file = w.into_inner().map_err(|e| e.into_error())?.0;
         file.sync_all()?;
-        std::fs::rename(&self.tmp, &self.path)
+        std::fs::rename(&self.tmp, &self.path)?;
+        feedback::remove_temp(&self.tmp);
+        Ok(())
     }
 }
 
@@ -642,6 +687,7 @@ impl Drop for AtomicFile {
         if self.file.is_some() || self.tmp.exists() {
             self.file = None;
             let _ = std::fs::remove_file(&self.tmp);
+            feedback::remove_temp(&self.tmp);
         }
     }
 }

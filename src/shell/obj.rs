@@ -4,7 +4,7 @@
 //! ignored. Each line is checked on its way to tobj, so a bad one is named
 //! by its line number.
 
-use std::io::BufRead;
+use std::io::{BufRead, Read};
 
 use glam::Vec3;
 
@@ -36,6 +36,9 @@ fn from_reader(path: &str, reader: impl BufRead) -> Result<MeshData, String> {
     };
     let mut checked = Checked::new(reader);
     let loaded = tobj::load_obj_buf(&mut checked, &opts, |_| Err(tobj::LoadError::OpenFileFailed));
+    if let Some((line, why)) = checked.stop {
+        return Err(format!("{path}:{line}: {why}"));
+    }
     if let Some((line, text)) = checked.bad {
         return Err(format!("{path}:{line}: bad OBJ line \"{}\"", text.trim()));
     }
@@ -90,11 +93,32 @@ struct Checked<R> {
     line: usize,
     counts: [i64; 3],
     bad: Option<(usize, String)>,
+    /// Why reading stopped early: a line too long, the memory budget, Ctrl-C.
+    stop: Option<(usize, String)>,
 }
+
+/// The longest OBJ line read (a face of a million corners fits).
+const MAX_LINE: u64 = 16 << 20;
 
 impl<R: BufRead> Checked<R> {
     fn new(inner: R) -> Checked<R> {
-        Checked { inner, buf: Vec::new(), pos: 0, line: 0, counts: [0; 3], bad: None }
+        Checked { inner, buf: Vec::new(), pos: 0, line: 0, counts: [0; 3], bad: None, stop: None }
+    }
+
+    /// Why the next line should not be read, if it should not.
+    fn stop_reason(&self) -> Option<String> {
+        if self.buf.len() as u64 >= MAX_LINE && !self.buf.ends_with(b"\n") {
+            return Some(format!("line longer than {}", crate::mem::human(MAX_LINE as usize)));
+        }
+        if self.line.is_multiple_of(4096) {
+            if let Err(e) = crate::mem::check() {
+                return Some(e.to_string());
+            }
+            if super::feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
+                return Some("interrupted".into());
+            }
+        }
+        None
     }
 }
 
@@ -154,10 +178,15 @@ impl<R: BufRead> std::io::Read for Checked<R> {
 
 impl<R: BufRead> BufRead for Checked<R> {
     fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
-        if self.pos == self.buf.len() && self.bad.is_none() {
+        if self.pos == self.buf.len() && self.bad.is_none() && self.stop.is_none() {
             self.buf.clear();
             self.pos = 0;
-            self.inner.read_until(b'\n', &mut self.buf)?;
+            (&mut self.inner).take(MAX_LINE).read_until(b'\n', &mut self.buf)?;
+            if let Some(why) = self.stop_reason() {
+                self.stop = Some((self.line + 1, why));
+                self.buf.clear();
+                return Ok(&[]);
+            }
             // A UTF-8 byte order mark opening the file is not OBJ text.
             if self.line == 0 && self.buf.starts_with(b"\xef\xbb\xbf") {
                 self.buf.drain(..3);

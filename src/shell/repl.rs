@@ -15,6 +15,9 @@ use rustyline::history::DefaultHistory;
 use rustyline::validate::{ValidationContext, ValidationResult, Validator};
 use rustyline::{Context, Editor, Helper};
 
+use std::sync::atomic::Ordering;
+
+use super::feedback::IN_REPL;
 use crate::interp::{Code, Interp, is_complete};
 
 struct ShellHelper {
@@ -214,6 +217,7 @@ pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellSt
     }
     show_line!("rayshell {} — type `help` for commands, Ctrl-D to quit", env!("CARGO_PKG_VERSION"));
     let mut code = 0;
+    let mut bad_input = 0;
     loop {
         if let Some(h) = rl.helper_mut() {
             h.names = interp.command_names();
@@ -228,11 +232,15 @@ pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellSt
         state.borrow_mut().since_last += waiting.elapsed();
         match read {
             Ok(line) => {
+                bad_input = 0;
                 if line.trim().is_empty() {
                     continue;
                 }
                 let _ = rl.add_history_entry(line.as_str());
-                match eval_line(interp, &line) {
+                IN_REPL.store(true, Ordering::SeqCst);
+                let reply = eval_line(interp, &line);
+                IN_REPL.store(false, Ordering::SeqCst);
+                match reply {
                     Reply::Result(v) => show_line!("{v}"),
                     Reply::Nothing => {}
                     Reply::Error(msg) => say!("{msg}"),
@@ -244,6 +252,16 @@ pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellSt
             }
             Err(ReadlineError::Interrupted) => continue,
             Err(ReadlineError::Eof) => break,
+            // Bytes that are not UTF-8 (`caf\xe9` typed in Latin-1): the
+            // line is lost, the session is not. Only a stream of nothing
+            // else (a binary file on stdin) ends it.
+            Err(ReadlineError::Io(e))
+                if e.kind() == std::io::ErrorKind::InvalidData && bad_input < 100 =>
+            {
+                bad_input += 1;
+                say!("raytrace: that line was not UTF-8 text; it was dropped");
+                continue;
+            }
             Err(e) => {
                 say!("raytrace: {e}");
                 code = 1;

@@ -129,7 +129,7 @@ fn cmd_expr(interp: &mut Interp, argv: &[Value]) -> TclResult {
     if argv.len() == 2 {
         return interp.eval_expr(&argv[1]);
     }
-    interp.eval_expr(&concat(&argv[1..]))
+    interp.eval_expr(&concat(&argv[1..])?)
 }
 
 fn cmd_while(interp: &mut Interp, argv: &[Value]) -> TclResult {
@@ -396,19 +396,20 @@ fn cmd_error(_: &mut Interp, argv: &[Value]) -> TclResult {
 }
 
 /// `concat` semantics: trim each argument and join with spaces.
-pub(crate) fn concat(args: &[Value]) -> Value {
+pub(crate) fn concat(args: &[Value]) -> TclResult {
     if args.len() == 1 {
-        return args[0].clone();
+        return Ok(args[0].clone());
     }
     let ws: &[char] = &[' ', '\t', '\n', '\r', '\x0b', '\x0c'];
     let parts: Vec<&str> =
         args.iter().map(|a| a.as_str().trim_matches(ws)).filter(|s| !s.is_empty()).collect();
-    Value::from_string(parts.join(" "))
+    super::super::eval::check_len(parts.iter().map(|p| p.len() + 1).sum())?;
+    Ok(Value::from_string(parts.join(" ")))
 }
 
 fn cmd_eval(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "arg ?arg ...?")?;
-    interp.eval(&concat(&argv[1..]))
+    interp.eval(&concat(&argv[1..])?)
 }
 
 fn cmd_uplevel(interp: &mut Interp, argv: &[Value]) -> TclResult {
@@ -421,7 +422,7 @@ fn cmd_uplevel(interp: &mut Interp, argv: &[Value]) -> TclResult {
     } else {
         (interp.resolve_level("1")?, &argv[1..])
     };
-    let script = concat(rest);
+    let script = concat(rest)?;
     interp.in_frame(frame, |i| i.eval(&script))
 }
 

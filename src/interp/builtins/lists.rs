@@ -407,7 +407,7 @@ fn cmd_concat(_: &mut Interp, argv: &[Value]) -> TclResult {
     if argv.len() == 1 {
         return Ok(Value::empty());
     }
-    let v = concat(&argv[1..]);
+    let v = concat(&argv[1..])?;
     Ok(if argv.len() == 2 {
         Value::from(v.as_str().trim_matches(|c: char| c.is_ascii_whitespace()))
     } else {
@@ -442,6 +442,7 @@ fn cmd_split(_: &mut Interp, argv: &[Value]) -> TclResult {
         s.chars().filter(|c| seps.contains(c)).count() + 1
     };
     check_list_len(count)?;
+    crate::mem::reserve_n(count, Value::BYTES)?;
     let items: Vec<Value> = if seps.is_empty() {
         s.chars().map(|c| Value::from_string(c.to_string())).collect()
     } else {

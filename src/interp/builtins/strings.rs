@@ -47,6 +47,34 @@ pub(crate) const SUBCOMMANDS: &[&str] = &[
 
 const TRIM_DEFAULT: &str = " \t\n\r\x0b\x0c\0";
 
+/// Tcl's one-to-one lower case (for -nocase): one char for one char.
+fn lower(c: char) -> char {
+    let mut l = c.to_lowercase();
+    match (l.next(), l.next()) {
+        (Some(x), None) => x,
+        _ => c,
+    }
+}
+
+fn fold(s: &str, nocase: bool) -> String {
+    if nocase { s.chars().map(lower).collect() } else { s.to_string() }
+}
+
+/// If `s` starts with `key` (already folded), the bytes of `s` it covers.
+fn match_at(s: &str, key: &str, nocase: bool) -> Option<usize> {
+    if !nocase {
+        return s.starts_with(key).then_some(key.len());
+    }
+    let mut it = s.char_indices();
+    for k in key.chars() {
+        let (_, c) = it.next()?;
+        if lower(c) != k {
+            return None;
+        }
+    }
+    Some(it.next().map_or(s.len(), |(i, _)| i))
+}
+
 fn chars(s: &str) -> Vec<char> {
     s.chars().collect()
 }
@@ -236,36 +264,29 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
             if pairs.len() % 2 != 0 {
                 return Err(Exception::error("char map list unbalanced"));
             }
-            let keys: Vec<(Vec<char>, &str)> = pairs
+            // Works on the string in place: a copy as chars would take four
+            // times its bytes.
+            let keys: Vec<(String, &str)> = pairs
                 .chunks(2)
-                .map(|kv| {
-                    let k = if nocase {
-                        kv[0].as_str().to_lowercase()
-                    } else {
-                        kv[0].as_str().to_string()
-                    };
-                    (chars(&k), kv[1].as_str())
-                })
+                .filter(|kv| !kv[0].as_str().is_empty())
+                .map(|kv| (fold(kv[0].as_str(), nocase), kv[1].as_str()))
                 .collect();
-            let src = chars(s.as_str());
-            let cmp_src: Vec<char> =
-                if nocase { chars(&s.as_str().to_lowercase()) } else { src.clone() };
+            let src = s.as_str();
             let mut out = String::new();
             let mut i = 0;
             'outer: while i < src.len() {
                 for (k, v) in &keys {
-                    if !k.is_empty()
-                        && cmp_src.len() >= i + k.len()
-                        && cmp_src[i..i + k.len()] == k[..]
-                    {
+                    if let Some(n) = match_at(&src[i..], k, nocase) {
+                        check_len(out.len() + v.len())?;
                         out.push_str(v);
-                        i += k.len();
-                        check_len(out.len())?;
+                        i += n;
                         continue 'outer;
                     }
                 }
-                out.push(src[i]);
-                i += 1;
+                let c = src[i..].chars().next().unwrap_or(' ');
+                check_len(out.len() + 4)?;
+                out.push(c);
+                i += c.len_utf8();
             }
             Ok(Value::from_string(out))
         }
@@ -284,12 +305,8 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
             Ok(Value::from_string(a[0].as_str().chars().rev().collect()))
         }
         "cat" => {
-            let mut out = String::new();
-            for v in a {
-                out.push_str(v.as_str());
-            }
-            check_len(out.len())?;
-            Ok(Value::from_string(out))
+            check_len(a.iter().map(|v| v.as_str().len()).sum())?;
+            Ok(Value::from_string(a.iter().map(|v| v.as_str()).collect()))
         }
         "is" => string_is(a),
         "bytelength" => {
