@@ -21,6 +21,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 static HEAP: cap::Cap<System> = cap::Cap::new(System, usize::MAX);
 
 static BUDGET: AtomicUsize = AtomicUsize::new(usize::MAX);
+/// What the allocator's count-down reads when the budget is all in use
+/// (`over` is then one comparison).
+static FLOOR: AtomicUsize = AtomicUsize::new(0);
 
 /// Heap bytes allocated and not yet freed.
 pub fn in_use() -> usize {
@@ -35,12 +38,13 @@ pub fn budget() -> usize {
 
 pub fn set_budget(bytes: usize) {
     BUDGET.store(bytes, Ordering::Relaxed);
+    FLOOR.store(usize::MAX - bytes, Ordering::Relaxed);
 }
 
-/// Whether the heap is already past the budget (one atomic load each).
+/// Whether the heap is already past the budget.
 #[inline]
 pub fn over() -> bool {
-    in_use() > budget()
+    HEAP.remaining() < FLOOR.load(Ordering::Relaxed)
 }
 
 /// Growth the budget does not allow.

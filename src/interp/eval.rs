@@ -903,9 +903,9 @@ fn after_growth(r: TclResult) -> TclResult {
     let pending = value::take_pending();
     match r {
         Err(e) if matches!(e.code, Code::Error | Code::Exit(_)) => Err(e),
-        _ => match pending {
+        r => match pending {
             Some(e) => Err(e),
-            None => Err(crate::mem::check().map_err(Exception::from).unwrap_err()),
+            None => crate::mem::check().map_err(Exception::from).and(r),
         },
     }
 }

@@ -30,21 +30,28 @@ struct Inner {
 impl Drop for Inner {
     /// Frees the lists nested in a list with a work list instead of
     /// recursion: a list nested a million deep would overflow the stack.
+    #[inline]
     fn drop(&mut self) {
-        let Rep::List(l) = self.rep.get_mut() else { return };
-        let Some(items) = Rc::get_mut(l) else { return };
-        if !items.iter().any(Value::owns_nested_list) {
-            return;
+        if let Rep::List(l) = self.rep.get_mut() {
+            drop_list(l);
         }
-        let mut work = std::mem::take(items);
-        while let Some(v) = work.pop() {
-            if let Ok(mut inner) = Rc::try_unwrap(v.0)
-                && let Rep::List(l) = inner.rep.get_mut()
-                && let Some(items) = Rc::get_mut(l)
-            {
-                // `inner` goes with an empty list; its elements wait here.
-                work.append(items);
-            }
+    }
+}
+
+#[inline(never)]
+fn drop_list(l: &mut Rc<Vec<Value>>) {
+    let Some(items) = Rc::get_mut(l) else { return };
+    if !items.iter().any(Value::owns_nested_list) {
+        return;
+    }
+    let mut work = std::mem::take(items);
+    while let Some(v) = work.pop() {
+        if let Ok(mut inner) = Rc::try_unwrap(v.0)
+            && let Rep::List(l) = inner.rep.get_mut()
+            && let Some(items) = Rc::get_mut(l)
+        {
+            // `inner` goes with an empty list; its elements wait here.
+            work.append(items);
         }
     }
 }
@@ -76,14 +83,17 @@ thread_local! {
     static EMPTY: Value = Value::from_string(String::new());
     /// The error of a string form that could not be made (see `as_str`).
     static PENDING: RefCell<Option<Exception>> = const { RefCell::new(None) };
+    static HAS_PENDING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
+#[inline]
 pub(crate) fn has_pending() -> bool {
-    PENDING.with(|p| p.borrow().is_some())
+    HAS_PENDING.with(|f| f.get())
 }
 
 /// The error left by a string form that could not be made, if any.
 pub(crate) fn take_pending() -> Option<Exception> {
+    HAS_PENDING.with(|f| f.set(false));
     PENDING.with(|p| p.borrow_mut().take())
 }
 
@@ -143,10 +153,16 @@ impl Value {
     /// has none: this returns "" (not cached) and leaves the error pending,
     /// and the command that asked fails with it when it returns
     /// (`take_pending`).
+    #[inline]
     pub fn as_str(&self) -> &str {
-        if let Some(s) = self.0.string.get() {
-            return s;
+        match self.0.string.get() {
+            Some(s) => s,
+            None => self.make_str(),
         }
+    }
+
+    #[inline(never)]
+    fn make_str(&self) -> &str {
         let s = match &*self.0.rep.borrow() {
             Rep::Int(i) => CompactString::from(itoa::Buffer::new().format(*i)),
             Rep::Double(d) => CompactString::from(number::format_double(*d)),
@@ -154,6 +170,7 @@ impl Value {
                 Ok(s) => CompactString::from(s),
                 Err(e) => {
                     PENDING.with(|p| *p.borrow_mut() = Some(e));
+                    HAS_PENDING.with(|f| f.set(true));
                     return "";
                 }
             },
