@@ -5,7 +5,8 @@
 //! Growth that can be big (strings, lists, file reads, the scene, images, a
 //! BVH) asks `reserve` first and is refused with an error when it would take
 //! the heap past the budget; loops that grow by many small steps ask `over`
-//! now and then, and the interpreter asks it after every command. Nothing
+//! now and then, and the interpreter asks `grew_past` after every command
+//! (a command that only reads or frees is never refused). Nothing
 //! here refuses an allocation itself: running out is always an error with a
 //! place, never an abort.
 //!
@@ -45,6 +46,23 @@ pub fn set_budget(bytes: usize) {
 #[inline]
 pub fn over() -> bool {
     HEAP.remaining() < FLOOR.load(Ordering::Relaxed)
+}
+
+/// A reading for `grew_past`.
+#[derive(Clone, Copy)]
+pub struct Mark(usize);
+
+#[inline]
+pub fn mark() -> Mark {
+    Mark(HEAP.remaining())
+}
+
+/// Whether the heap grew since `m` and is now past the budget (work that
+/// only reads, or frees, is not stopped by memory already held).
+#[inline]
+pub fn grew_past(m: Mark) -> bool {
+    let now = HEAP.remaining();
+    now < m.0 && now < FLOOR.load(Ordering::Relaxed)
 }
 
 /// Growth the budget does not allow.

@@ -483,6 +483,7 @@ impl Interp {
             }
         };
         self.enter()?;
+        let mark = crate::mem::mark();
         let level = !matches!(cmd, CommandKind::Native(_, true));
         if level {
             if self.levels >= self.max_depth {
@@ -499,7 +500,7 @@ impl Interp {
         };
         self.depth -= 1;
         self.levels -= level as usize;
-        if crate::mem::over() || value::has_pending() {
+        if crate::mem::grew_past(mark) || value::has_pending() {
             return after_growth(r);
         }
         r
@@ -896,8 +897,8 @@ fn stdout_error(e: &std::io::Error) -> Exception {
 }
 
 /// A command's result when it left a string form that could not be made,
-/// or the heap past the budget: an error, unless one is already on its way
-/// (with its trace) or the script is exiting.
+/// or took the heap past the budget: an error, unless one is already on its
+/// way (with its trace) or the script is exiting.
 #[cold]
 fn after_growth(r: TclResult) -> TclResult {
     let pending = value::take_pending();

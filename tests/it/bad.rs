@@ -396,6 +396,85 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         1,
         "list too long: rayshell lists are limited to 67108864 elements",
     ),
+    // Memory: the corpus runs with --max-memory 512M under a 4 GB
+    // address-space cap; each growth below once aborted or ran the machine
+    // out of memory. Issue "hostile input, second round".
+    (
+        "a 2 GB string from small lists",
+        "puts [string length [lrepeat 1000 [lrepeat 1000 [lrepeat 1000 x]]]]",
+        1,
+        "string too long: rayshell values are limited to 1073741824 bytes",
+    ),
+    (
+        "caught, the long list stays a list",
+        "set l [lrepeat 1000 [lrepeat 1000 [lrepeat 1000 x]]]\n\
+         if {[catch {string length $l} m] && [llength $l] == 1000} { error \"kept: $m\" }",
+        1,
+        "kept: string too long",
+    ),
+    (
+        "string map on 400 MB",
+        "set s [string repeat x 400000000]; string map {x yy} $s",
+        1,
+        "not enough memory: ",
+    ),
+    ("split of 6 M characters", "split [string repeat x 6000000] {}", 1, "not enough memory: "),
+    ("concat doubling", "set l {a b c}; while 1 {set l [concat $l $l]}", 1, "not enough memory: "),
+    ("append doubling", "set s x; while 1 {append s $s}", 1, "not enough memory: "),
+    ("word doubling", "set s x; while 1 {set s $s$s}", 1, "not enough memory: "),
+    ("lappend for ever", "while 1 {lappend l [incr i]}", 1, "not enough memory: "),
+    ("array for ever", "while 1 {set a([incr i]) [incr i]}", 1, "not enough memory: "),
+    ("lights for ever", "while 1 {point_light 1 1 1 0 0 0}", 1, "not enough memory: "),
+    ("materials for ever", "while 1 {material 1 1 1 0 1 0 1 0 1}", 1, "not enough memory: "),
+    ("spheres for ever", "while 1 {sphere 0 0 0 1}", 1, "not enough memory: "),
+    (
+        "triangles for ever",
+        "vertex 0 0 0; vertex 1 0 0; vertex 0 1 0; while 1 {tri 0 1 2}",
+        1,
+        "not enough memory: ",
+    ),
+    (
+        "a picture past the budget",
+        "camera_resolution 8192 8192; point_light 1 1 1 0 5 0; sphere 0 0 -5 1; render big.png",
+        1,
+        "not enough memory: 960 MiB more would pass the budget of 512 MiB",
+    ),
+    (
+        "source /dev/zero",
+        "source /dev/zero",
+        1,
+        "couldn't read file \"/dev/zero\": not enough memory",
+    ),
+    ("mesh /dev/zero", "mesh /dev/zero", 1, "/dev/zero:1: line longer than 16 MiB"),
+    // Nesting: a list a million deep prints and frees without recursion
+    // (it once overflowed the stack); Tcl's level count is tclsh's.
+    (
+        "a list nested a million deep",
+        "set l x; for {set i 0} {$i<1000000} {incr i} {set l [list $l]}\n\
+         if {[string length $l] != 1} { error wrong }",
+        0,
+        "",
+    ),
+    (
+        "a list of lists a thousand deep",
+        "set l x; for {set i 0} {$i<1000} {incr i} {set l [list $l y]}\n\
+         if {[string length $l] != 3999} { error [string length $l] }",
+        0,
+        "",
+    ),
+    ("recursion to level 1000", "proc f {n} {if {$n>0} {f [expr {$n-1}]}}; f 999", 0, ""),
+    (
+        "recursion past level 1000",
+        "proc f {n} {if {$n>0} {f [expr {$n-1}]}}; f 1000",
+        1,
+        "too many nested evaluations (infinite loop?)",
+    ),
+    (
+        "eval recursion counts two levels",
+        "proc g {n} {if {$n>0} {eval g [expr {$n-1}]}}; g 500",
+        1,
+        "too many nested evaluations (infinite loop?)",
+    ),
     ("array as scalar", "set a(1) 1\nset a 2", 1, "can't set \"a\": variable is array"),
     ("break outside loop", "break", 1, "invoked \"break\" outside of a loop"),
     ("exit code", "exit 3", 3, ""),
@@ -454,12 +533,26 @@ pub fn the_corpus_is_big_enough() {
     assert!(all_cases().len() >= 60, "{} cases", all_cases().len());
 }
 
+/// The binary under a 4 GB address-space cap (`prlimit --as`, when
+/// util-linux has it) with a 512 MiB memory budget.
+fn capped() -> std::process::Command {
+    let mut c = if std::process::Command::new("prlimit").arg("--version").output().is_ok() {
+        let mut c = std::process::Command::new("prlimit");
+        c.args(["--as=4000000000", "--", env!("CARGO_BIN_EXE_raytrace")]);
+        c
+    } else {
+        raytrace()
+    };
+    c.args(["--max-memory", "512M"]);
+    c
+}
+
 pub fn every_bad_input_exits_with_a_located_message() {
     let dir = scratch("bad-corpus");
     setup(&dir);
     for (what, script, code, msg) in all_cases() {
         std::fs::write(dir.join("bad.tsd"), format!("puts ok\n{script}\n")).unwrap();
-        let r = raytrace().arg("bad.tsd").current_dir(&dir).output().unwrap();
+        let r = capped().arg("bad.tsd").current_dir(&dir).output().unwrap();
         let err = text(&r.stderr);
         let head: String = err.chars().take(300).collect();
         assert_eq!(r.status.code(), Some(code), "{what}: {head}");
@@ -508,6 +601,11 @@ pub fn the_repl_survives_every_bad_input() {
         }
         std::fs::write(d.join("bad.tsd"), format!("source {}\n", p("bad.tsd"))).unwrap();
         for (what, script, code, msg) in all_cases() {
+            // This process has no memory budget (see
+            // `the_repl_keeps_its_session_past_the_memory_budget`).
+            if msg.starts_with("not enough memory") {
+                continue;
+            }
             // The REPL runs in another directory: name files in full.
             let full = |text: String| {
                 [
@@ -601,4 +699,28 @@ pub fn hostile_renders_finish_under_a_memory_cap() {
         std::fs::remove_file(dir.join("out.png")).unwrap();
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The REPL (on a terminal, through the binary) with a 64 MiB budget: growth
+/// past it is an error; what is held stays readable, and freeing it makes
+/// room again.
+pub fn the_repl_keeps_its_session_past_the_memory_budget() {
+    let (code, shown) = crate::util::repl_session_with(
+        &["--max-memory", "64M"],
+        &[
+            "set keep 42",
+            "while 1 {lappend l [incr i]}",
+            "puts \"held [expr {[llength $l] > 1000}] keep $keep\"",
+            "while 1 {point_light 1 1 1 0 0 0}",
+            "puts \"alive $keep\"",
+            "unset l; clear_scene",
+            "puts \"room [llength [lrepeat 100000 x]]\"",
+            "exit 7",
+        ],
+    );
+    assert_eq!(code, Some(7), "{shown}");
+    assert_eq!(shown.matches("not enough memory: ").count(), 2, "{shown}");
+    for want in ["held 1 keep 42", "alive 42", "room 100000"] {
+        assert!(shown.contains(want), "{want}: {shown}");
+    }
 }

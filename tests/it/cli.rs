@@ -436,3 +436,112 @@ pub fn output_files_keep_links_modes_and_long_names() {
     names.retain(|n| n.ends_with(".tmp"));
     assert!(names.is_empty(), "{names:?}");
 }
+
+/// The memory budget from the command line: its sizes, and its default
+/// under an address-space cap (`prlimit --as`), where growth past it is a
+/// located error (it once aborted, exit 134). Issue "hostile input, second
+/// round".
+pub fn the_memory_budget_from_the_command_line() {
+    for bad in ["lots", "12", "0%", "-1G", "5X"] {
+        let out = run(&["--max-memory", bad, "-c", "puts hi"], "");
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        assert!(text(&out.stderr).contains("--max-memory"), "{bad}: {}", text(&out.stderr));
+    }
+    let out = run(&["--max-memory", "1.5GiB", "-c", "puts hi"], "");
+    assert_eq!(text(&out.stdout), "hi\n");
+    let out = run(&["--max-memory", "32M", "-c", "set s [string repeat x 40000000]"], "");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr)
+            .starts_with("-c:1: not enough memory: 38.1 MiB more would pass the budget of 32 MiB"),
+        "{}",
+        text(&out.stderr)
+    );
+    if std::process::Command::new("prlimit").arg("--version").output().is_err() {
+        crate::util::skip("prlimit (util-linux) is not installed");
+    }
+    for script in [
+        "set s [string repeat x 500000000]; string map {x yy} $s",
+        "set l {a b c}; while 1 {set l [concat $l $l]}",
+        "while 1 {lappend l [incr i]}",
+    ] {
+        let out = std::process::Command::new("prlimit")
+            .args(["--as=4000000000", "--", env!("CARGO_BIN_EXE_raytrace"), "-c", script])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{script}: {}", text(&out.stderr));
+        let err = text(&out.stderr);
+        assert!(
+            err.starts_with("-c:1: not enough memory: ")
+                || err.starts_with("-c:1: string too long"),
+            "{script}: {err}"
+        );
+    }
+}
+
+/// Input without end: `/dev/zero` as the script or on stdin stops at the
+/// value cap with a located error, in bounded memory.
+pub fn endless_input_is_refused() {
+    let out = run(&["--max-memory", "256M", "/dev/zero"], "");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).starts_with("/dev/zero:1: error reading"), "{}", text(&out.stderr));
+    let child = std::process::Command::new("sh")
+        .args([
+            "-c",
+            &format!("head -c 600000000 /dev/zero | '{}' -", env!("CARGO_BIN_EXE_raytrace")),
+        ])
+        .output()
+        .unwrap();
+    let err = text(&child.stderr);
+    assert!(err.starts_with("stdin:1: error reading \"stdin\": "), "{err}");
+    assert!(err.contains("not enough memory") || err.contains("longer than"), "{err}");
+}
+
+/// `ulimit -f`: a write past it is an error (status 74, as for any write
+/// error) that leaves no temporary file; SIGXFSZ no longer kills the run.
+pub fn a_file_size_limit_is_a_write_error() {
+    let dir = crate::util::scratch("ulimit-f");
+    let script = "camera_resolution 512 512; sphere 0 0 -5 1; point_light 1 1 1 0 5 0";
+    let out = std::process::Command::new("sh")
+        .args([
+            "-c",
+            &format!(
+                "ulimit -f 100; exec '{}' -q -c '{script}' out.ppm",
+                env!("CARGO_BIN_EXE_raytrace")
+            ),
+        ])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(74), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).starts_with("-c:1: couldn't write \"out.ppm\": file too large"));
+    assert!(crate::util::listing(&dir).is_empty(), "{:?}", crate::util::listing(&dir));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Bytes that are not UTF-8 typed into the REPL drop that line, not the
+/// session (it once ended, losing the variables).
+pub fn the_repl_survives_bytes_that_are_not_utf8() {
+    use std::io::{Read, Write};
+    let dir = crate::util::scratch("repl-latin1");
+    let mut child = crate::util::spawn_repl(&dir);
+    let mut input = child.stdin.take().unwrap();
+    input.write_all(b"set keep 42\n").unwrap();
+    input.flush().unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    input.write_all(b"puts caf\xe9\n").unwrap();
+    input.flush().unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    input.write_all(b"puts \"keep=$keep\"\nexit 5\n").unwrap();
+    input.flush().unwrap();
+    let mut bytes = Vec::new();
+    child.stdout.take().unwrap().read_to_end(&mut bytes).unwrap();
+    let status = child.wait().unwrap();
+    child.stderr.take().unwrap().read_to_end(&mut bytes).unwrap();
+    drop(input);
+    let shown = String::from_utf8_lossy(&bytes);
+    assert_eq!(status.code(), Some(5), "{shown}");
+    assert!(shown.contains("that line was not UTF-8 text"), "{shown}");
+    assert!(shown.contains("keep=42"), "{shown}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

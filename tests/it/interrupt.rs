@@ -126,3 +126,79 @@ pub fn kill_9_never_leaves_a_truncated_image() {
     assert!(listing(&dir).iter().all(|n| n == "big.tsd" || n == "big.ppm" || n.ends_with(".tmp")));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Waits for `child` at most `secs` seconds (killing it after), and returns
+/// its output.
+fn wait_at_most(mut child: Child, secs: u64) -> std::process::Output {
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(secs) {
+            let _ = child.kill();
+            panic!("still running after {secs} s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// Waits that once ignored Ctrl-C: a FIFO nobody writes to, as the script,
+/// to `source` and to `mesh`, and standard input that never comes. Each
+/// ends at the first SIGINT with status 130. Issue "hostile input, second
+/// round".
+pub fn waits_for_input_give_way_to_ctrl_c() {
+    if Command::new("mkfifo").arg("--version").output().is_err() {
+        crate::util::skip("mkfifo (coreutils) is not installed");
+    }
+    let dir = scratch("fifo-sigint");
+    assert!(Command::new("mkfifo").arg(dir.join("pipe")).status().unwrap().success());
+    let cases: [(&str, &[&str]); 4] = [
+        ("the script", &["pipe"]),
+        ("source", &["-c", "puts hello; source pipe"]),
+        ("mesh", &["-c", "puts hello; mesh pipe"]),
+        ("stdin", &["-"]),
+    ];
+    for (what, args) in cases {
+        let child = raytrace()
+            .args(args)
+            .current_dir(&dir)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(300));
+        signal(&child, "-INT");
+        let out = wait_at_most(child, 10);
+        assert_eq!(out.status.code(), Some(130), "{what}: {}", text(&out.stderr));
+        if args.len() == 2 {
+            assert_eq!(text(&out.stdout), "hello\n", "{what}: output before the wait is kept");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// SIGTERM, SIGHUP and two quick SIGINTs during a render: status 130, the
+/// buffered output is flushed, no temporary file stays.
+pub fn every_interrupt_exits_130_flushed_and_clean() {
+    for sigs in [&["-TERM"][..], &["-HUP"], &["-INT", "-INT"]] {
+        let dir = scratch("signals");
+        std::fs::write(dir.join("slow.tsd"), format!("puts before\n{SLOW}render slow.png\n"))
+            .unwrap();
+        let mut child = raytrace()
+            .arg("slow.tsd")
+            .current_dir(&dir)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        wait_for_tmp(&dir, &mut child);
+        for s in sigs {
+            signal(&child, s);
+        }
+        let out = wait_at_most(child, 10);
+        assert_eq!(out.status.code(), Some(130), "{sigs:?}: {}", text(&out.stderr));
+        assert_eq!(text(&out.stdout), "before\n", "{sigs:?}");
+        assert_eq!(listing(&dir), ["slow.tsd"], "{sigs:?}: no image, no temporary file");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -67,6 +67,11 @@ pub fn skip(reason: impl Into<String>) -> ! {
 /// it, with its stdin, stdout and stderr piped. Skips the test when
 /// `script` is absent.
 pub fn spawn_repl(dir: &std::path::Path) -> std::process::Child {
+    spawn_repl_with(dir, &[])
+}
+
+/// `spawn_repl` with options for raytrace.
+pub fn spawn_repl_with(dir: &std::path::Path, args: &[&str]) -> std::process::Child {
     if Command::new("script").arg("--version").output().is_err() {
         skip("`script` (util-linux) is not installed");
     }
@@ -75,7 +80,10 @@ pub fn spawn_repl(dir: &std::path::Path) -> std::process::Child {
     // die of it, and `script` would report that status instead of ours.
     // TERM=dumb: rustyline's line mode keeps lines typed ahead (a raw-mode
     // switch would flush them).
-    let bin = format!("exec '{}'", env!("CARGO_BIN_EXE_raytrace"));
+    let mut bin = format!("exec '{}'", env!("CARGO_BIN_EXE_raytrace"));
+    for a in args {
+        bin.push_str(&format!(" '{a}'"));
+    }
     Command::new("script")
         .args(["-qfec", &bin, "/dev/null"])
         .current_dir(dir)
@@ -92,9 +100,14 @@ pub fn spawn_repl(dir: &std::path::Path) -> std::process::Child {
 /// `lines` (a line `#pause MS` waits instead), and returns its exit status and everything the terminal and
 /// stderr showed. Skips the test when `script` is absent.
 pub fn repl_session(lines: &[&str]) -> (Option<i32>, String) {
+    repl_session_with(&[], lines)
+}
+
+/// `repl_session` with options for raytrace.
+pub fn repl_session_with(args: &[&str], lines: &[&str]) -> (Option<i32>, String) {
     use std::io::{Read, Write};
     let dir = scratch("repl-session");
-    let mut child = spawn_repl(&dir);
+    let mut child = spawn_repl_with(&dir, args);
     let mut input = child.stdin.take().expect("stdin");
     for line in lines {
         // `#pause MS`: wait before typing on, as a person would.
