@@ -21,6 +21,8 @@
 //!   cancellation.
 //! - `image`: the linear f32 image, PPM and PNG writers and readers (with a
 //!   crop's placement).
+//! - `mem`: the memory budget: a counting allocator, `reserve` before big
+//!   growth, `grew_past` after each command. A leaf every layer may use.
 //! - `shell`: the glue and the only module that touches files, the terminal,
 //!   signals, the environment and exit codes: arguments, the REPL (with
 //!   completion), the scene commands (`commands`) and their documentation
@@ -31,7 +33,7 @@
 //!
 //! # Invariants
 //!
-//! - `interp` imports nothing else from this crate; `geometry`, `scene`,
+//! - `interp` imports nothing else from this crate but `mem`; `geometry`, `scene`,
 //!   `render` and `image` never see interpreter values (`tests/it/tidy.rs`
 //!   checks the layering).
 //! - Only `shell` does I/O; `image` writes to `impl Write`.
@@ -48,6 +50,10 @@
 //!   scene first wins: coplanar surfaces resolve the same way for any tree,
 //!   walk order, lane or thread count.
 //! - An image reaches its final name only whole (`shell::AtomicFile`).
+//! - No input makes the program abort or run the machine out of memory:
+//!   growth that could pass the budget (`mem`) is refused as an error, and
+//!   nothing recurses natively without a bound (nested lists are printed
+//!   and freed with explicit stacks; evaluation depth is capped).
 //! - No input makes the program panic: bad scripts are `Exception`s with a
 //!   file and line; a panic that slips through still exits 70, never 101.
 

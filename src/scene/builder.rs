@@ -10,7 +10,8 @@ use super::light::Light;
 use super::material::Material;
 use crate::geometry::{Shape, Triangle};
 
-/// The largest image, in pixels (64 Mpixel: 768 MiB of f32 RGB).
+/// The largest image, in pixels (64 Mpixel: 768 MiB of f32 RGB, and 192 MiB
+/// more in bytes while the file is written).
 pub const MAX_PIXELS: u64 = 1 << 26;
 /// The deepest recursion `trace_depth` accepts.
 pub const MAX_TRACE_DEPTH: u32 = 64;

@@ -45,7 +45,7 @@ use std::rc::Rc;
 use crate::interp::{Code, Exception, Host, INTERRUPT_CODE, Interp, Value};
 
 pub use args::Cli;
-pub use feedback::ProgressMode;
+pub use feedback::{INTERRUPTED, ProgressMode};
 
 /// `errorCode` of a failure to write an image; the exit status is `EXIT_IO`.
 pub const IO_ERROR_CODE: &str = "RAYSHELL IO";

@@ -1,0 +1,73 @@
+//! Scripts under hostile conditions: a small memory budget (8 to 64 MiB
+//! over what the fuzzer holds), Ctrl-C at a moment the input chooses
+//! (`shell::INTERRUPTED`, which stops the interpreter and renders), and a
+//! prelude of extreme materials and tiny or huge geometry. Any panic,
+//! abort or stack overflow is a bug; Tcl errors are fine.
+#![no_main]
+
+use std::sync::atomic::Ordering;
+use std::time::Duration;
+
+use libfuzzer_sys::fuzz_target;
+use rayshell::shell::{CaptureHost, INTERRUPTED, Session};
+
+const PRELUDES: [&str; 8] = [
+    "",
+    // Ks + T > 1 at depth 64 through glass: the ray tree doubles per bounce.
+    "trace_depth 64; material 1 1 1 0 0 0.5 1 1 1.5\n\
+     for {set i 0} {$i < 8} {incr i} { sphere 0 0 [expr {-$i * 2.5}] 1 }",
+    // A mirror too small for single precision.
+    "material 1 1 1 0 0 1 1 0 1; sphere 0 0 -1e-30 1e-31",
+    // Far away and huge.
+    "camera_from 1e30 0 0; camera_target 0 0 0; sphere 0 0 0 1e29",
+    // The largest index of refraction, and the smallest.
+    "material 1 1 1 0.2 0.8 0 1 0.9 100; sphere 0 0 -5 1\n\
+     material 1 1 1 0 0 0 1 1 0.01; sphere 0 0 -3 0.5",
+    // A triangle near 1e20, seen from beside it.
+    "camera_from 1e20 1e20 1e20; camera_target 1e20 1e20 0\n\
+     tri [vertex 1e20 1e20 -5] [vertex [expr {1e20+1e5}] 1e20 -5] [vertex 1e20 [expr {1e20+1e5}] -5]",
+    // Coincident glass and mirror spheres.
+    "material 1 1 1 0 0 0.5 1 0.5 1.5; sphere 0 0 -4 1; sphere 0 0 -4 1\n\
+     material 1 1 1 0 0 1 1 0 1; sphere 0 0 -4 1",
+    // The smallest and largest spheres.
+    "sphere 0 0 -5 1e-38; sphere 1e37 0 0 1e37",
+];
+
+fuzz_target!(|data: &[u8]| {
+    let Some((&head, rest)) = data.split_first() else { return };
+    static CHDIR: std::sync::Once = std::sync::Once::new();
+    CHDIR.call_once(|| {
+        let dir = std::env::temp_dir().join("rayshell-fuzz-out");
+        std::fs::create_dir_all(&dir).unwrap();
+        std::env::set_current_dir(&dir).unwrap();
+    });
+    let prelude = PRELUDES[(head & 7) as usize];
+    let src = format!(
+        "camera_resolution 8 8; point_light 1 1 1 0 5 5\n{prelude}\n{}\nrender fuzz.png\n",
+        String::from_utf8_lossy(rest)
+    );
+    rayshell::mem::set_budget(rayshell::mem::in_use() + ((8 << 20) << (head >> 6)));
+    INTERRUPTED.store(false, Ordering::SeqCst);
+    // Ctrl-C after 0 to 7 ms.
+    let ctrl_c = (head & 0x20 != 0).then(|| {
+        let ms = (head >> 3 & 3) as u64 * 2 + (rest.len() % 2) as u64;
+        std::thread::spawn(move || {
+            std::thread::sleep(Duration::from_millis(ms));
+            INTERRUPTED.store(true, Ordering::SeqCst);
+        })
+    });
+    // On the interpreter's own big stack, as in the program.
+    rayshell::shell::on_big_stack(move || {
+        let mut session = Session::new(Box::new(CaptureHost::default()));
+        session.scene.borrow_mut().max_pixels = 16 * 16;
+        session.interp.max_commands = Some(20_000);
+        session.interp.interrupt = Some(&INTERRUPTED);
+        let _ = session.interp.eval_source(&src, Some("fuzz.tsd"));
+    })
+    .expect("no panic");
+    if let Some(t) = ctrl_c {
+        let _ = t.join();
+    }
+    INTERRUPTED.store(false, Ordering::SeqCst);
+    rayshell::mem::set_budget(usize::MAX);
+});
