@@ -80,22 +80,25 @@ impl Image {
     }
 
     pub fn write(&self, w: impl Write, format: Format, enc: Encoding) -> io::Result<()> {
-        self.write_placed(w, format, enc, None)
+        self.write_placed(w, format, enc, None, &|| false)
     }
 
     /// Writes the image, recording where it sits in a larger picture (a
-    /// `--crop` region) so `merge` can put it back.
+    /// `--crop` region) so `merge` can put it back. `stop` is asked between
+    /// bands of rows: when it says yes the write fails ("interrupted"), so
+    /// a long PNG encode gives way to Ctrl-C.
     pub fn write_placed(
         &self,
         w: impl Write,
         format: Format,
         enc: Encoding,
         at: Option<Placement>,
+        stop: &dyn Fn() -> bool,
     ) -> io::Result<()> {
         let rgb = self.to_rgb8(enc);
         match format {
             Format::Ppm => write_ppm_placed(w, self.width, self.height, &rgb, at),
-            Format::Png => write_png_placed(w, self.width, self.height, &rgb, enc, at),
+            Format::Png => write_png_placed(w, self.width, self.height, &rgb, enc, at, stop),
         }
     }
 }
@@ -155,7 +158,7 @@ pub fn write_png(
     rgb: &[u8],
     enc: Encoding,
 ) -> io::Result<()> {
-    write_png_placed(w, width, height, rgb, enc, None)
+    write_png_placed(w, width, height, rgb, enc, None, &|| false)
 }
 
 /// Says in a PNG how its values are encoded, so viewers show it right:
@@ -179,6 +182,7 @@ fn write_png_placed(
     rgb: &[u8],
     encoding: Encoding,
     at: Option<Placement>,
+    stop: &dyn Fn() -> bool,
 ) -> io::Result<()> {
     let mut enc = png::Encoder::new(w, width, height);
     enc.set_color(png::ColorType::Rgb);
@@ -188,8 +192,15 @@ fn write_png_placed(
         enc.add_text_chunk(PLACEMENT_KEY.into(), p.text()).map_err(io::Error::other)?;
     }
     let mut writer = enc.write_header().map_err(io::Error::other)?;
-    writer.write_image_data(rgb).map_err(io::Error::other)?;
-    writer.finish().map_err(io::Error::other)
+    // Fed in bands of rows, asking `stop` between them.
+    let mut stream = writer.stream_writer().map_err(io::Error::other)?;
+    for band in rgb.chunks((width as usize * 3 * 64).max(1)) {
+        if stop() {
+            return Err(io::Error::other("interrupted"));
+        }
+        stream.write_all(band)?;
+    }
+    stream.finish().map_err(io::Error::other)
 }
 
 /// An 8-bit RGB picture read back from a file, with its placement if it

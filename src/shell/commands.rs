@@ -528,7 +528,7 @@ fn render_command(
         let mut out = super::AtomicFile::create(path).map_err(write_err)?;
         let mut st = state.borrow_mut();
         let img = &st.last_picture.as_ref().expect("checked above").image;
-        img.write_placed(out.writer(), format, enc, placement).map_err(write_err)?;
+        img.write_placed(out.writer(), format, enc, placement, &interrupted).map_err(write_err)?;
         out.commit().map_err(write_err)?;
         let (w, h) = (img.width, img.height);
         st.feedback.finished(&super::feedback::Finished {
@@ -566,7 +566,7 @@ fn render_command(
     // Cancelled (Ctrl-C): the temporary file goes with `out`.
     let (img, rays) = done.ok_or_else(super::interrupted)?;
     let render_seconds = start.elapsed().as_secs_f64();
-    img.write_placed(out.writer(), format, enc, placement).map_err(write_err)?;
+    img.write_placed(out.writer(), format, enc, placement, &interrupted).map_err(write_err)?;
     out.commit().map_err(write_err)?;
     st.feedback.show_final(&img.pixels, img.width, img.height);
     st.feedback.finished(&super::feedback::Finished {
@@ -591,6 +591,11 @@ fn render_command(
     st.last = Some(report);
     st.since_last = Instant::now();
     Ok(Value::empty())
+}
+
+/// Whether Ctrl-C has come (a long PNG encode asks).
+fn interrupted() -> bool {
+    super::feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed)
 }
 
 /// What freezing a scene takes per primitive, at most: its shape, its leaf

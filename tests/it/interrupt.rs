@@ -202,3 +202,35 @@ pub fn every_interrupt_exits_130_flushed_and_clean() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// Ctrl-C while a large PNG is being encoded (it was once ignored until
+/// the file was whole): status 130, no image, no temporary file.
+pub fn ctrl_c_during_a_png_encode() {
+    let dir = scratch("sigint-encode");
+    // Quick to trace, a second or more to encode: 64 Mpixel of sky.
+    let scene = "camera_resolution 8192 8192; background 0.2 0.3 0.4";
+    let mut child = raytrace()
+        .args(["-q", "-c", scene, "big.png"])
+        .current_dir(&dir)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The encode has begun when the temporary file has bytes.
+    let start = Instant::now();
+    loop {
+        let tmp = listing(&dir).into_iter().find(|n| n.ends_with(".tmp"));
+        if let Some(t) = tmp
+            && std::fs::metadata(dir.join(t)).is_ok_and(|m| m.len() > 0)
+        {
+            break;
+        }
+        assert!(child.try_wait().unwrap().is_none(), "the encode ended before it was seen");
+        assert!(start.elapsed() < Duration::from_secs(120), "the encode never started");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    signal(&child, "-INT");
+    let out = wait_at_most(child, 10);
+    assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
+    assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -96,6 +96,7 @@ fn main() {
         interrupt::ctrl_c_in_a_batch_exits_130_and_leaves_no_file,
         interrupt::waits_for_input_give_way_to_ctrl_c,
         interrupt::every_interrupt_exits_130_flushed_and_clean,
+        interrupt::ctrl_c_during_a_png_encode,
         interrupt::ctrl_c_in_the_repl_cancels_the_render_and_keeps_the_session,
         interrupt::kill_9_never_leaves_a_truncated_image,
         lang::scripts_match_tclsh,
