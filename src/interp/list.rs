@@ -30,7 +30,8 @@ pub fn parse_list(s: &str) -> Result<Vec<Value>, Exception> {
         if i >= b.len() {
             return Ok(out);
         }
-        if out.len() % 4096 == 0 {
+        // Every 4096 elements: the cap, and room for the next 4096.
+        if out.len() % 4096 == 0 && !out.is_empty() {
             super::eval::check_list_len(out.len() + 1)?;
             crate::mem::reserve_n(4096, Value::BYTES)?;
         }
@@ -239,13 +240,8 @@ pub fn append_element(out: &mut String, s: &str, quote_hash: bool) {
     }
 }
 
-/// The string form of a list.
-pub fn format_list(items: &[Value]) -> String {
-    format_list_checked(items).unwrap_or_default()
-}
-
-/// `format_list`, refusing a string past the value cap or the memory
-/// budget before building it. Nested lists get their string forms bottom
+/// The string form of a list, refusing a string past the value cap or the
+/// memory budget before building it. Nested lists get their string forms bottom
 /// up, without recursion: a list nested a million deep prints too.
 pub(crate) fn format_list_checked(items: &[Value]) -> Result<String, Exception> {
     format_nested(items);
@@ -294,7 +290,7 @@ mod tests {
 
     fn fmt(items: &[&str]) -> String {
         let v: Vec<Value> = items.iter().map(|s| Value::from(*s)).collect();
-        format_list(&v)
+        format_list_checked(&v).unwrap()
     }
 
     #[test]
@@ -310,7 +306,7 @@ mod tests {
     fn round_trip() {
         for s in ["a b c", "{a b} c", "\"x y\" z", "a\\ b", "{}", "  lead  trail  "] {
             let items = parse_list(s).unwrap();
-            let again = parse_list(&format_list(&items)).unwrap();
+            let again = parse_list(&format_list_checked(&items).unwrap()).unwrap();
             let a: Vec<&str> = items.iter().map(|v| v.as_str()).collect();
             let b: Vec<&str> = again.iter().map(|v| v.as_str()).collect();
             assert_eq!(a, b);

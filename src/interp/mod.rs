@@ -19,7 +19,6 @@ mod value;
 pub use builtins::subcommands;
 pub use error::{Code, Exception, Loc, TclResult};
 pub use eval::{Host, INTERRUPT_CODE, Interp, MAX_LIST_LEN, MAX_VALUE_LEN};
-pub use list::format_list;
 pub use number::{Num, format_double, parse_double};
 pub use parser::is_complete;
 pub use value::Value;

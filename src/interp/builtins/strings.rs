@@ -431,6 +431,10 @@ fn cmd_puts(interp: &mut Interp, argv: &[Value]) -> TclResult {
     };
     let mut s = String::with_capacity(text.as_str().len() + 1);
     s.push_str(text.as_str());
+    // A list too long to print prints nothing (the error is on its way).
+    if let Some(e) = crate::interp::value::take_pending() {
+        return Err(e);
+    }
     if newline {
         s.push('\n');
     }
