@@ -475,6 +475,12 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         1,
         "too many nested evaluations (infinite loop?)",
     ),
+    (
+        "a resolution written as a double",
+        "camera_resolution 1e9 1e9",
+        1,
+        "resolution 1000000000x1000000000 would need",
+    ),
     ("array as scalar", "set a(1) 1\nset a 2", 1, "can't set \"a\": variable is array"),
     ("break outside loop", "break", 1, "invoked \"break\" outside of a loop"),
     ("exit code", "exit 3", 3, ""),
@@ -667,20 +673,36 @@ pub fn hostile_renders_finish_under_a_memory_cap() {
     if std::process::Command::new("prlimit").arg("--version").output().is_err() {
         crate::util::skip("prlimit (util-linux) is not installed");
     }
+    // (what, scene, whether something shows at the centre)
     let cases = [
         // A mirror sphere too small for single precision: NaN normals and
         // directions, which once sent the BVH walk round its root for ever.
-        ("degenerate mirror sphere", "material 1 1 1 0 0 1 1 0 1; sphere 0 0 -1e-30 1e-31"),
+        ("degenerate mirror sphere", "material 1 1 1 0 0 1 1 0 1; sphere 0 0 -1e-30 1e-31", false),
         // Ks + T = 1.5 at trace_depth 64 through 50 glass balls: the ray tree
         // doubles at every bounce (over 10 minutes before the per-pixel cap).
         (
             "ray tree that doubles",
             "trace_depth 64; material 1 1 1 0 0 0.5 1 1 1.5\n\
              for {set i 0} {$i < 50} {incr i} { sphere 0 0 [expr {-$i * 2.5}] 1 }",
+            false,
+        ),
+        // Far from the origin: once "up vector is parallel" and "degenerate".
+        (
+            "camera at 1e30",
+            "ambient_light 1 1 1; camera_from 1e30 0 5; camera_target 1e30 0 0; sphere 1e30 0 0 1",
+            true,
+        ),
+        (
+            "triangle near 1e20",
+            "ambient_light 1 1 1; camera_from 1e20 1e20 5; camera_target 1e20 1e20 0\n\
+             tri [vertex -1e5 -1e5 0] [vertex 1e5 -1e5 0] [vertex 0 1e5 0]\n\
+             tri [vertex [expr {1e20-1e5}] [expr {1e20-1e5}] 0] [vertex [expr {1e20+1e5}] \
+             [expr {1e20-1e5}] 0] [vertex 1e20 [expr {1e20+1e5}] 0]",
+            true,
         ),
     ];
     let dir = scratch("hostile-renders");
-    for (what, scene) in cases {
+    for (what, scene, visible) in cases {
         let script = format!(
             "camera_resolution 32 32; camera_from 0 0 5; camera_target 0 0 0\n\
              point_light 10 10 10 0 5 5\n{scene}\nrender out.png\n"
@@ -693,9 +715,14 @@ pub fn hostile_renders_finish_under_a_memory_cap() {
             .output()
             .unwrap();
         assert_eq!(r.status.code(), Some(0), "{what}: {}", text(&r.stderr));
-        assert!(dir.join("out.png").exists(), "{what}: no picture");
+        let png = std::fs::read(dir.join("out.png")).expect("a picture");
         // Generous: an unbounded tree takes hours, the bounded one < 1 s.
         assert!(start.elapsed().as_secs() < 60, "{what}: {:?}", start.elapsed());
+        if visible {
+            let img = rayshell::image::read_rgb8(&png).unwrap();
+            let centre = (16 * 32 + 16) * 3;
+            assert!(img.rgb[centre..centre + 3].iter().all(|&c| c > 40), "{what}: not seen");
+        }
         std::fs::remove_file(dir.join("out.png")).unwrap();
     }
     let _ = std::fs::remove_dir_all(&dir);
