@@ -4,9 +4,10 @@
 //! same for any thread count, tile order or pass order.
 
 mod job;
+pub mod sample;
 mod tracer;
 
 pub use job::{Job, PASSES, Rect};
 pub use tracer::{
-    RayStats, raybench, raybench_brute, reflect, refract, render, render_heatmap, trace,
+    RayStats, apply_look, raybench, raybench_brute, reflect, refract, render, render_heatmap, trace,
 };

@@ -23,6 +23,7 @@ use glam::Vec3;
 use std::sync::Mutex;
 
 use super::job::{Job, per_pixel};
+use super::sample::{self, FilterTable};
 use crate::geometry::{Hit, Ray, Shape, Triangle, intersect_brute};
 use crate::image::Image;
 use crate::scene::Material;
@@ -153,10 +154,33 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
         None => Some(Mutex::new(vec![Vec3::ZERO; r.pixels() as usize])),
     };
     let out = job.canvas.or(own.as_ref()).expect("one of the two");
+    let sampling = &scene.sampling;
+    let table = FilterTable::new(sampling.filter);
     let stats = per_pixel(cam.width, cam.height, job, out, |x, y, st| {
-        st.primary += 1;
-        st.limit = st.total() + MAX_RAYS_PER_PIXEL;
-        trace(scene, &cam.ray(x, y), 0, 1.0, Media::default(), st)
+        if sampling.samples <= 1 {
+            // The pixel centre, as COS 426 traces it.
+            st.primary += 1;
+            st.limit = st.total() + MAX_RAYS_PER_PIXEL;
+            return trace(scene, &cam.ray(x, y), 0, 1.0, Media::default(), st);
+        }
+        let n = sampling.samples;
+        let pattern = sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64) as u32;
+        let (mut sum, mut weights, mut plain) = (Vec3::ZERO, 0.0f32, Vec3::ZERO);
+        for s in 0..n {
+            let (u, v) = sample::cmj(s, n, pattern);
+            let ((dx, wx), (dy, wy)) = (table.sample(u), table.sample(v));
+            st.primary += 1;
+            // The cap on rays is per camera ray.
+            st.limit = st.total() + MAX_RAYS_PER_PIXEL;
+            let ray = cam.ray_at(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy);
+            let c = trace(scene, &ray, 0, 1.0, Media::default(), st);
+            sum += (wx * wy) * c;
+            weights += wx * wy;
+            plain += c;
+        }
+        // Negative lobes (Mitchell) can leave too little weight with few
+        // samples: the plain mean then.
+        if weights > 0.25 * n as f32 { sum / weights } else { plain / n as f32 }
     })?;
     // The picture itself, not a copy of it (64 Mpixel are 768 MiB).
     let pixels = match own {
@@ -164,6 +188,14 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
         None => out.lock().unwrap_or_else(|e| e.into_inner()).clone(),
     };
     Some((Image { width: r.width(), height: r.height(), pixels }, stats))
+}
+
+/// Applies the scene's exposure and tone map to a rendered picture (the
+/// last step before it is written).
+pub fn apply_look(sampling: &crate::scene::Sampling, img: &mut Image) {
+    if sampling.exposure != 0.0 || sampling.tonemap != crate::scene::Tonemap::Clamp {
+        img.pixels.iter_mut().for_each(|p| *p = sampling.look(*p));
+    }
 }
 
 /// The cost picture: each pixel coloured by the BVH traversal steps of its

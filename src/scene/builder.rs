@@ -8,6 +8,7 @@ use glam::{DVec3, Vec3};
 use super::camera::Camera;
 use super::light::Light;
 use super::material::Material;
+use super::sampling::Sampling;
 use crate::geometry::{Shape, Triangle};
 
 /// The largest image, in pixels (64 Mpixel: 768 MiB of f32 RGB, and 192 MiB
@@ -130,6 +131,8 @@ pub struct Builder {
     pub ambient: Vec3,
     pub background: Vec3,
     pub trace_depth: u32,
+    /// Samples per pixel, filter, seed, exposure, tone map.
+    pub sampling: Sampling,
     /// The largest `camera_resolution` accepted (`MAX_PIXELS` unless an
     /// embedder lowers it; `clear` keeps it).
     pub max_pixels: u64,
@@ -156,6 +159,7 @@ impl Default for Builder {
             ambient: Vec3::ZERO,
             background: Vec3::ZERO,
             trace_depth: 5,
+            sampling: Sampling::default(),
             max_pixels: MAX_PIXELS,
             generation: 0,
         }
@@ -525,8 +529,13 @@ impl Builder {
     }
 
     /// Back to the initial state.
+    /// Back to the defaults, but for the picture size limit, the animation
+    /// frame and `--seed` (the run's, not the script's).
     pub fn clear(&mut self) {
         let (max_pixels, generation) = (self.max_pixels, self.generation + 1);
+        let (frame, base_seed) = (self.sampling.frame, self.sampling.base_seed);
         *self = Builder { max_pixels, generation, ..Builder::default() };
+        self.sampling.frame = frame;
+        self.sampling.base_seed = base_seed;
     }
 }

@@ -43,7 +43,13 @@ impl Camera {
 
     /// The primary ray through the centre of pixel (x, y).
     pub fn ray(&self, x: u32, y: u32) -> Ray {
-        let dir = self.corner + self.dx * (x as f32 + 0.5) + self.dy * (y as f32 + 0.5);
+        self.ray_at(x as f32 + 0.5, y as f32 + 0.5)
+    }
+
+    /// The primary ray through the image point (px, py), in pixels from
+    /// the top-left corner (pixel centres are at half-integers).
+    pub fn ray_at(&self, px: f32, py: f32) -> Ray {
+        let dir = self.corner + self.dx * px + self.dy * py;
         Ray::new(self.from, dir.normalize())
     }
 }

@@ -21,6 +21,7 @@ pub struct Scene {
     pub ambient: Vec3,
     pub background: Vec3,
     pub trace_depth: u32,
+    pub sampling: super::Sampling,
     pub build_seconds: f64,
     /// Triangles skipped because they have no area.
     pub degenerate: usize,
@@ -44,6 +45,7 @@ impl Scene {
             ambient: b.ambient,
             background: b.background,
             trace_depth: b.trace_depth,
+            sampling: b.sampling,
             build_seconds,
             degenerate,
         })

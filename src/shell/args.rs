@@ -73,6 +73,10 @@ pub struct Cli {
     /// Leave frames whose output file already exists (reruns are idempotent).
     #[arg(long, requires = "frames")]
     pub skip_existing: bool,
+    /// Change the noise pattern of sampled renders (and nothing else); the
+    /// script's `seed` command changes it too, independently.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub seed: u64,
     /// Memory the run may use: 512M, 2G, 50% (of physical memory). Growth
     /// past it is a script error, never a crash [default: 75% of physical
     /// memory, and at most half of what `ulimit -v` leaves].

@@ -13,7 +13,7 @@ use glam::{DVec3, Vec3};
 use crate::image::{Encoding, Format};
 use crate::interp::{Exception, Interp, Num, Value, check_args, format_double};
 use crate::render;
-use crate::scene::{Builder, Light, Material, Scene, SceneError};
+use crate::scene::{Builder, Filter, FilterKind, Light, Material, Scene, SceneError, Tonemap};
 
 use super::stats::{Picture, RenderReport, ShellState};
 
@@ -97,6 +97,17 @@ fn numeric(
         b.generation += 1;
         f(&mut b, &Args { nums, name: &n, usage: &u })
     });
+}
+
+/// A word that must be a finite number (`what` names it in the message).
+fn finite_arg(v: &Value, what: &str) -> Result<f64, Exception> {
+    match v.as_num().map(|n| n.to_f64()) {
+        Some(x) if x.is_finite() => Ok(x),
+        _ => Err(Exception::error(format!(
+            "{what}: expected a finite number but got \"{}\"",
+            v.as_str()
+        ))),
+    }
 }
 
 /// Registers the scene commands, sharing one builder and the shell state.
@@ -293,6 +304,62 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         b.set_trace_depth(a.int(0)?).map_err(e)?;
         Ok(None)
     });
+    numeric(interp, &scene, "samples", "n", "camera rays per pixel, stratified", move |b, a| {
+        b.sampling.set_samples(a.int(0)?).map_err(e)?;
+        Ok(None)
+    });
+    numeric(interp, &scene, "seed", "n", "the noise pattern", move |b, a| {
+        b.sampling.seed = a.int(0)? as u64;
+        Ok(None)
+    });
+    numeric(interp, &scene, "exposure", "ev", "multiply by 2^ev before output", move |b, a| {
+        b.sampling.set_exposure(a.f64(0)?).map_err(e)?;
+        Ok(None)
+    });
+    let s = scene.clone();
+    interp.register_host(
+        "filter",
+        "box|tent|gaussian|mitchell ?radius?",
+        "the pixel reconstruction filter (radius in pixels)",
+        move |_, argv| {
+            check_args(argv, 2, 3, "box|tent|gaussian|mitchell ?radius?")?;
+            let kind = FilterKind::parse(argv[1].as_str()).ok_or_else(|| {
+                Exception::error(format!(
+                    "bad filter \"{}\": must be {}",
+                    argv[1].as_str(),
+                    FilterKind::NAMES
+                ))
+            })?;
+            let radius = match argv.get(2) {
+                Some(v) => Some(finite_arg(v, "filter: radius")? as f32),
+                None => None,
+            };
+            let mut b = s.borrow_mut();
+            b.generation += 1;
+            b.sampling.filter = Filter::new(kind, radius).map_err(e)?;
+            Ok(Value::empty())
+        },
+    );
+    let s = scene.clone();
+    interp.register_host(
+        "tonemap",
+        "clamp|reinhard|aces",
+        "how values above 1 reach the file",
+        move |_, argv| {
+            check_args(argv, 2, 2, "clamp|reinhard|aces")?;
+            let t = Tonemap::parse(argv[1].as_str()).ok_or_else(|| {
+                Exception::error(format!(
+                    "bad tone map \"{}\": must be {}",
+                    argv[1].as_str(),
+                    Tonemap::NAMES
+                ))
+            })?;
+            let mut b = s.borrow_mut();
+            b.generation += 1;
+            b.sampling.tonemap = t;
+            Ok(Value::empty())
+        },
+    );
     let s = scene.clone();
     interp.register_host(
         "clear_scene",
@@ -564,7 +631,10 @@ fn render_command(
         if heatmap { render::render_heatmap(&scene, job) } else { render::render(&scene, job) }
     });
     // Cancelled (Ctrl-C): the temporary file goes with `out`.
-    let (img, rays) = done.ok_or_else(super::interrupted)?;
+    let (mut img, rays) = done.ok_or_else(super::interrupted)?;
+    if !heatmap {
+        render::apply_look(&scene.sampling, &mut img);
+    }
     let render_seconds = start.elapsed().as_secs_f64();
     img.write_placed(out.writer(), format, enc, placement, &interrupted).map_err(write_err)?;
     out.commit().map_err(write_err)?;

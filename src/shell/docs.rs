@@ -136,6 +136,36 @@ pub const SCENE: &[Doc] = &[
         example: "trace_depth 8",
     },
     Doc {
+        name: "samples",
+        meaning: "camera rays per pixel, 1..65536: stratified and jittered (correlated multi-jittered, Kensler 2013), placed by the filter; `samples 1` traces the pixel centre, exactly the one-ray picture",
+        default: "1",
+        example: "samples 16",
+    },
+    Doc {
+        name: "filter",
+        meaning: "the reconstruction filter and its radius in pixels (default radius: box 0.5, tent 1, gaussian 1.5 with σ = radius/3, mitchell 2 with B = C = 1/3); each sample is placed by importance under its pixel's filter, reaching into neighbouring pixels, and a pixel is the weighted mean of its samples",
+        default: "box 0.5",
+        example: "filter mitchell",
+    },
+    Doc {
+        name: "seed",
+        meaning: "the noise pattern of sampled pictures, and nothing else; every random number is a hash of (seed, `--seed`, frame, pixel, sample)",
+        default: "0",
+        example: "seed 7",
+    },
+    Doc {
+        name: "exposure",
+        meaning: "multiply values by 2^ev before the tone map",
+        default: "0",
+        example: "exposure -0.5",
+    },
+    Doc {
+        name: "tonemap",
+        meaning: "how values above 1 reach the file: `clamp` clips each channel (the COS 426 output); `reinhard` (x/(1+x)) and `aces` (Narkowicz's fit) map the largest channel and scale the others with it, so hue is kept",
+        default: "clamp",
+        example: "tonemap aces",
+    },
+    Doc {
         name: "render",
         meaning: "trace and write `.ppm` (binary P6, maxval 255) or `.png`; `-heatmap` writes the cost picture instead: each pixel coloured by the BVH traversal steps its primary ray took, nodes entered plus leaf blocks of four primitives tested (black, blue, red, yellow, white at the most)",
         default: "",

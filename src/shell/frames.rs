@@ -117,6 +117,7 @@ pub fn run_batch(cli: &Cli) -> i32 {
         let mut interp = session.interp;
         super::set_argv(&mut interp, &script_name, &cli.args);
         let _ = interp.set_var("frame", Value::from_int(f));
+        session.scene.borrow_mut().sampling.frame = f;
         let mut r = interp.eval_source(&src, Some(&script_name));
         // A script that renders its frames itself, with no output pattern
         // given, has written what it wanted: no second picture.

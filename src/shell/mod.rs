@@ -441,6 +441,7 @@ pub fn main() -> ExitCode {
 fn new_session(cli: &Cli) -> Result<Session, String> {
     let mut session = Session::new(Box::new(StdHost::new()));
     session.interp.interrupt = Some(&feedback::INTERRUPTED);
+    session.scene.borrow_mut().sampling.base_seed = cli.seed;
     let mut st = session.state.borrow_mut();
     st.print_stats = cli.stats;
     st.feedback =

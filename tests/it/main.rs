@@ -14,6 +14,7 @@ mod mesh;
 mod pov;
 mod readme;
 mod render;
+mod sampling;
 mod tidy;
 mod util;
 
@@ -57,6 +58,11 @@ fn main() {
     }));
     let args = Arguments::from_args();
     let trials = tests![
+        sampling::edges_converge_to_their_covered_fractions,
+        sampling::sampled_pictures_do_not_depend_on_threads_passes_or_crops,
+        sampling::seeds_change_the_noise_only,
+        sampling::exposure_and_tone_maps_follow_their_formulas,
+        sampling::sampling_commands_refuse_bad_values,
         bad::the_corpus_is_big_enough,
         bad::every_bad_input_exits_with_a_located_message,
         bad::the_repl_survives_every_bad_input,

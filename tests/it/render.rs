@@ -22,7 +22,9 @@ fn render_script(src: &str) -> Image {
             panic!("script failed: {}", e.located_message());
         }
         let scene = Scene::freeze(&s.scene.borrow()).expect("freeze");
-        render(&scene, &Job::default()).expect("not cancelled").0
+        let mut img = render(&scene, &Job::default()).expect("not cancelled").0;
+        rayshell::render::apply_look(&scene.sampling, &mut img);
+        img
     })
     .expect("render thread")
 }

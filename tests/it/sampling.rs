@@ -1,0 +1,203 @@
+//! Sampling by numbers (issue "sampling"): antialiased edges against their
+//! covered fractions, the same bytes for any thread count, crop or pass,
+//! seeds that change the noise only, and tone maps against their formulas.
+
+use crate::util::{raytrace, scratch, text};
+
+/// Renders `script` (with the output named in it) and returns the linear
+/// 8-bit picture.
+fn render(dir: &std::path::Path, args: &[&str], script: &str) -> rayshell::image::Rgb8 {
+    let r = raytrace().args(args).args(["-q", "-c", script]).current_dir(dir).output().unwrap();
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let out = script.rsplit(' ').next().unwrap();
+    rayshell::image::read_rgb8(&std::fs::read(dir.join(out)).unwrap()).unwrap()
+}
+
+/// The area of the unit pixel square at (i, j) on the side a·x + b·y < c.
+fn covered(i: u32, j: u32, (a, b, c): (f64, f64, f64)) -> f64 {
+    let (x0, y0) = (i as f64, j as f64);
+    let square = [(x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0)];
+    // Sutherland–Hodgman against one half-plane, then the shoelace area.
+    let inside = |p: (f64, f64)| c - a * p.0 - b * p.1;
+    let mut poly = Vec::new();
+    for k in 0..4 {
+        let (p, q) = (square[k], square[(k + 1) % 4]);
+        let (dp, dq) = (inside(p), inside(q));
+        if dp >= 0.0 {
+            poly.push(p);
+        }
+        if (dp >= 0.0) != (dq >= 0.0) {
+            let t = dp / (dp - dq);
+            poly.push((p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1)));
+        }
+    }
+    let n = poly.len();
+    (0..n)
+        .map(|k| poly[k].0 * poly[(k + 1) % n].1 - poly[(k + 1) % n].0 * poly[k].1)
+        .sum::<f64>()
+        .abs()
+        / 2.0
+}
+
+/// A white half-plane a·x + b·y < c in pixel coordinates on black: a huge
+/// triangle in the plane z = -1 seen by a 90° camera at the origin, where
+/// pixel (px, py) of a W×H picture is the point (2px/W - 1, 1 - 2py/H).
+fn half_plane_scene(w: u32, h: u32, (a, b, c): (f64, f64, f64)) -> String {
+    let to_plane = |px: f64, py: f64| (2.0 * px / w as f64 - 1.0, 1.0 - 2.0 * py / h as f64);
+    // A point on the line, its direction, and the white side's normal.
+    let n = (a * a + b * b).sqrt();
+    let p = (a * c / (n * n), b * c / (n * n));
+    let d = (-b / n, a / n);
+    let far = 1.0e4;
+    let corners = [
+        (p.0 + far * d.0, p.1 + far * d.1),
+        (p.0 - far * d.0, p.1 - far * d.1),
+        (p.0 - far * a / n, p.1 - far * b / n),
+    ];
+    let mut s = format!(
+        "camera_resolution {w} {h}; camera_angle 90; camera_from 0 0 0; camera_target 0 0 -1\n\
+         ambient_light 1 1 1; material 1 1 1 1 0 0 1 0 1\n"
+    );
+    let mut ids = Vec::new();
+    for (k, (px, py)) in corners.iter().enumerate() {
+        let (x, y) = to_plane(*px, *py);
+        s.push_str(&format!("set v{k} [vertex {x} {y} -1]\n"));
+        ids.push(format!("$v{k}"));
+    }
+    s.push_str(&format!("tri {}\n", ids.join(" ")));
+    s
+}
+
+/// The mean absolute error of the edge pixels against their covered
+/// fractions, and the mean signed error (bias).
+fn edge_error(img: &rayshell::image::Rgb8, line: (f64, f64, f64)) -> (f64, f64, usize) {
+    let (mut abs, mut signed, mut n) = (0.0, 0.0, 0);
+    for j in 0..img.height {
+        for i in 0..img.width {
+            let want = covered(i, j, line);
+            if want > 1e-9 && want < 1.0 - 1e-9 {
+                let got = img.rgb[((j * img.width + i) * 3) as usize] as f64 / 255.0;
+                abs += (got - want).abs();
+                signed += got - want;
+                n += 1;
+            }
+        }
+    }
+    (abs / n as f64, signed / n as f64, n)
+}
+
+pub fn edges_converge_to_their_covered_fractions() {
+    let dir = scratch("sampling-edges");
+    let (w, h) = (48, 48);
+    // An edge at about 27° through the picture, off the pixel grid.
+    let line = (0.45, -0.89, 0.45 * 24.3 - 0.89 * 23.7);
+    let scene = half_plane_scene(w, h, line);
+    let mut errors = Vec::new();
+    for n in [1, 4, 16, 64] {
+        let img = render(&dir, &[], &format!("{scene}samples {n}; render e{n}.ppm"));
+        let (abs, bias, edge_pixels) = edge_error(&img, line);
+        assert!(edge_pixels > 40, "{edge_pixels}");
+        assert!(n == 1 || bias.abs() < 0.02, "samples {n}: bias {bias}");
+        errors.push(abs);
+    }
+    // One ray per pixel: all or nothing (an error near 1/4 on average).
+    assert!(errors[0] > 0.15, "{errors:?}");
+    // Stratified: the error falls faster than 1/sqrt(n) (16x the samples,
+    // at least 4x less error), to the 8-bit floor.
+    assert!(errors[1] < 0.12, "{errors:?}");
+    assert!(errors[3] < errors[1] / 4.0, "{errors:?}");
+    assert!(errors[3] < 0.012, "{errors:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The same bytes for 1 and 2 threads, progressive passes, and a crop
+/// (its pixels are the whole picture's), with every filter.
+pub fn sampled_pictures_do_not_depend_on_threads_passes_or_crops() {
+    let dir = scratch("sampling-same");
+    let scene = "camera_resolution 40 30; camera_from 0 0 5; camera_target 0 0 0\n\
+                 point_light 1 1 1 3 4 5; ambient_light 0.1 0.1 0.1\n\
+                 material 0.9 0.3 0.2 0.2 0.8 0.5 30 0 1; sphere 0 0 0 1.2\n\
+                 material 0.3 0.9 0.5 0.2 0.8 0 1 0.5 1.5; sphere 1.2 0.8 1 0.5\n\
+                 samples 9\n";
+    for filter in ["box", "tent 1.2", "gaussian", "mitchell"] {
+        let s = format!("{scene}filter {filter}; render a.ppm");
+        let one = render(&dir, &["--threads", "1"], &s);
+        let two = render(&dir, &["--threads", "2"], &s);
+        let prog = render(&dir, &["--progressive"], &s);
+        assert!(one.rgb == two.rgb, "{filter}: 1 vs 2 threads");
+        assert!(one.rgb == prog.rgb, "{filter}: progressive");
+        let crop = render(&dir, &["--crop", "7", "5", "29", "21"], &s);
+        for y in 0..16u32 {
+            for x in 0..22u32 {
+                let (c, f) = (((y * 22 + x) * 3) as usize, (((y + 5) * 40 + x + 7) * 3) as usize);
+                assert_eq!(crop.rgb[c..c + 3], one.rgb[f..f + 3], "{filter}: crop at {x},{y}");
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `seed` and `--seed` move the noise and nothing else: edge pixels change,
+/// their mean does not (much), flat areas not at all; one sample per pixel
+/// has no noise to move.
+pub fn seeds_change_the_noise_only() {
+    let dir = scratch("sampling-seed");
+    let line = (0.3, 0.95, 0.3 * 20.2 + 0.95 * 19.6);
+    let scene = half_plane_scene(40, 40, line);
+    let base = render(&dir, &[], &format!("{scene}samples 4; render a.ppm"));
+    let seeded = render(&dir, &[], &format!("{scene}samples 4; seed 7; render b.ppm"));
+    let flag = render(&dir, &["--seed", "7"], &format!("{scene}samples 4; render c.ppm"));
+    for other in [&seeded, &flag] {
+        let differ = base.rgb.iter().zip(&other.rgb).filter(|(a, b)| a != b).count();
+        assert!(differ > 20, "{differ}");
+        let (e0, e1) = (edge_error(&base, line), edge_error(other, line));
+        assert!((e0.1 - e1.1).abs() < 0.03, "{e0:?} {e1:?}");
+    }
+    assert!(seeded.rgb != flag.rgb, "the script's seed and --seed are different noise");
+    let one = render(&dir, &[], &format!("{scene}render d.ppm"));
+    let one_seeded = render(&dir, &["--seed", "3"], &format!("{scene}seed 5; render e.ppm"));
+    assert!(one.rgb == one_seeded.rgb);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `exposure` and `tonemap` on a flat surface of linear value 3.
+pub fn exposure_and_tone_maps_follow_their_formulas() {
+    let dir = scratch("sampling-look");
+    let scene = "camera_resolution 4 4; camera_from 0 0 5; camera_target 0 0 0\n\
+                 ambient_light 3 3 3; material 1 0.5 0.25 1 0 0 1 0 1; sphere 0 0 0 10\n";
+    let aces = |x: f64| (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14);
+    let cases: [(&str, [f64; 3]); 5] = [
+        ("", [3.0, 1.5, 0.75]),
+        ("exposure -1", [1.5, 0.75, 0.375]),
+        ("exposure -2", [0.75, 0.375, 0.1875]),
+        ("tonemap reinhard", [0.75, 0.375, 0.1875]),
+        ("tonemap aces", [aces(3.0), aces(3.0) / 2.0, aces(3.0) / 4.0]),
+    ];
+    for (look, want) in cases {
+        let img = render(&dir, &[], &format!("{scene}{look}\nrender l.ppm"));
+        for (k, w) in want.iter().enumerate() {
+            let want = (w.min(1.0) * 255.0).round() as i32;
+            let got = img.rgb[k] as i32;
+            assert!((got - want).abs() <= 1, "{look}: channel {k}: {got} vs {want}");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Bad values are located errors that name the choices.
+pub fn sampling_commands_refuse_bad_values() {
+    for (script, msg) in [
+        ("samples 0", "samples must be between 1 and 65536, got 0"),
+        ("samples 1.5", "samples: n: expected integer but got \"1.5\""),
+        ("filter lanczos", "bad filter \"lanczos\": must be box, tent, gaussian or mitchell"),
+        ("filter box 0", "filter radius must be above 0 and at most 16 pixels, got 0"),
+        ("filter tent x", "filter: radius: expected a finite number but got \"x\""),
+        ("tonemap filmic", "bad tone map \"filmic\": must be clamp, reinhard or aces"),
+        ("exposure 100", "exposure must be between -64 and 64 stops, got 100"),
+    ] {
+        let r = raytrace().args(["-c", script]).output().unwrap();
+        assert_eq!(r.status.code(), Some(1), "{script}");
+        let err = text(&r.stderr);
+        assert!(err.starts_with(&format!("-c:1: {msg}")), "{script}: {err}");
+    }
+}
