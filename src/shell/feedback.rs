@@ -64,15 +64,17 @@ pub fn remove_temp(p: &Path) {
 }
 
 /// Runs `f`, an open or read of `path`, so that Ctrl-C can end the wait:
-/// a FIFO with no writer blocks for ever. Regular files are read here;
-/// anything else on a thread of its own, left behind (blocked, or done
-/// later) on an interrupt, which is `Err`.
+/// a FIFO with no writer blocks for ever. Regular files, directories and
+/// names that are not there are read here; FIFOs, devices and sockets on a
+/// thread of their own, left behind (blocked, or done later) on an
+/// interrupt, which is `Err`.
 pub fn blocking<T: Send + 'static>(
     path: &str,
     f: impl FnOnce() -> T + Send + 'static,
 ) -> Result<T, Interrupted> {
-    if std::fs::metadata(path).is_ok_and(|m| m.is_file() || m.is_dir()) {
-        return Ok(f());
+    match std::fs::metadata(path) {
+        Ok(m) if !(m.is_file() || m.is_dir()) => {}
+        _ => return Ok(f()),
     }
     let (tx, rx) = std::sync::mpsc::channel();
     let spawned = std::thread::Builder::new().name("open".into()).spawn(move || {
