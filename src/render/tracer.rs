@@ -157,14 +157,16 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let sampling = &scene.sampling;
     let table = FilterTable::new(sampling.filter);
     let stats = per_pixel(cam.width, cam.height, job, out, |x, y, st| {
-        if sampling.samples <= 1 {
+        if sampling.samples <= 1 && !cam.has_lens() {
             // The pixel centre, as COS 426 traces it.
             st.primary += 1;
             st.limit = st.total() + MAX_RAYS_PER_PIXEL;
             return trace(scene, &cam.ray(x, y), 0, 1.0, Media::default(), st);
         }
         let n = sampling.samples;
-        let pattern = sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64) as u32;
+        let key = sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64);
+        // Image and lens points from two patterns, stratified each.
+        let (pattern, lens_pattern) = (key as u32, (key >> 32) as u32);
         let (mut sum, mut weights, mut plain) = (Vec3::ZERO, 0.0f32, Vec3::ZERO);
         for s in 0..n {
             let (u, v) = sample::cmj(s, n, pattern);
@@ -172,7 +174,9 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
             st.primary += 1;
             // The cap on rays is per camera ray.
             st.limit = st.total() + MAX_RAYS_PER_PIXEL;
-            let ray = cam.ray_at(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy);
+            let (lu, lv) =
+                if cam.has_lens() { sample::cmj(s, n, lens_pattern) } else { (0.5, 0.5) };
+            let ray = cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv);
             let c = trace(scene, &ray, 0, 1.0, Media::default(), st);
             sum += (wx * wy) * c;
             weights += wx * wy;

@@ -133,6 +133,11 @@ pub struct Builder {
     pub trace_depth: u32,
     /// Samples per pixel, filter, seed, exposure, tone map.
     pub sampling: Sampling,
+    /// The thin lens's radius (0: a pinhole) and the distance in focus
+    /// along the view direction (`None`: the distance to `camera_target`,
+    /// or the length of the `camera_forw` vector).
+    pub aperture: f64,
+    pub focus: Option<f64>,
     /// The largest `camera_resolution` accepted (`MAX_PIXELS` unless an
     /// embedder lowers it; `clear` keeps it).
     pub max_pixels: u64,
@@ -160,6 +165,8 @@ impl Default for Builder {
             background: Vec3::ZERO,
             trace_depth: 5,
             sampling: Sampling::default(),
+            aperture: 0.0,
+            focus: None,
             max_pixels: MAX_PIXELS,
             generation: 0,
         }
@@ -285,10 +292,32 @@ impl Builder {
                 "camera_target is the same point as camera_from".into(),
             ));
         }
+        let focus = self.focus.unwrap_or(forward.length());
         // In the frozen scene the eye is the origin (see `shape`).
         let forward = (forward / forward.abs().max_element()).as_vec3();
-        Camera::new(Vec3::ZERO, forward, self.up, self.angle, width, height)
-            .ok_or(SceneError::UpParallel(self.up, forward.normalize()))
+        let camera = Camera::new(Vec3::ZERO, forward, self.up, self.angle, width, height)
+            .ok_or(SceneError::UpParallel(self.up, forward.normalize()))?;
+        Ok(camera.with_lens(self.aperture as f32, focus as f32))
+    }
+
+    pub fn set_aperture(&mut self, r: f64) -> Result<(), SceneError> {
+        if !(r >= 0.0 && r.is_finite()) {
+            return Err(SceneError::Invalid(format!(
+                "camera aperture must be 0 (a pinhole) or more, got {r}"
+            )));
+        }
+        self.aperture = r;
+        Ok(())
+    }
+
+    pub fn set_focus(&mut self, d: f64) -> Result<(), SceneError> {
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(SceneError::Invalid(format!(
+                "camera focus distance must be above 0, got {d}"
+            )));
+        }
+        self.focus = Some(d);
+        Ok(())
     }
 
     // -- Geometry -------------------------------------------------------------

@@ -1,4 +1,5 @@
-//! The pinhole camera: rays through pixel centres, row 0 at the top.
+//! The camera: a pinhole, or a thin lens (`camera_aperture`,
+//! `camera_focus`); rays through points of the image, row 0 at the top.
 
 use glam::Vec3;
 
@@ -14,6 +15,20 @@ pub struct Camera {
     corner: Vec3,
     dx: Vec3,
     dy: Vec3,
+    /// The thin lens, if the aperture is open.
+    lens: Option<Lens>,
+}
+
+/// A thin lens: rays leave from a disc of `radius` around the eye (across
+/// `right` and `up`) and meet where the pinhole ray meets the plane in
+/// focus, `focus` along `forward`.
+#[derive(Clone, Copy, Debug)]
+struct Lens {
+    radius: f32,
+    focus: f32,
+    right: Vec3,
+    up: Vec3,
+    forward: Vec3,
 }
 
 impl Camera {
@@ -38,7 +53,40 @@ impl Camera {
         let corner = forward - right * th + up * tv;
         let dx = right * (2.0 * th / width as f32);
         let dy = up * (-2.0 * tv / height as f32);
-        Some(Camera { from, width, height, corner, dx, dy })
+        Some(Camera { from, width, height, corner, dx, dy, lens: None })
+    }
+
+    /// This camera with a thin lens of `radius` focused at `focus` along
+    /// the view direction (a radius of 0 keeps the pinhole).
+    pub fn with_lens(mut self, radius: f32, focus: f32) -> Camera {
+        if radius > 0.0 {
+            let forward = (self.corner
+                + self.dx * (self.width as f32 * 0.5)
+                + self.dy * (self.height as f32 * 0.5))
+                .normalize();
+            let right = self.dx.normalize();
+            let up = -self.dy.normalize();
+            self.lens = Some(Lens { radius, focus, right, up, forward });
+        }
+        self
+    }
+
+    /// Whether rays leave from a lens (and need a lens sample).
+    pub fn has_lens(&self) -> bool {
+        self.lens.is_some()
+    }
+
+    /// The ray through image point (px, py) from lens point (lu, lv) in
+    /// the unit square (mapped to the disc by Shirley and Chiu's concentric
+    /// map); a pinhole ignores (lu, lv).
+    pub fn lens_ray(&self, px: f32, py: f32, lu: f32, lv: f32) -> Ray {
+        let pinhole = self.ray_at(px, py);
+        let Some(l) = self.lens else { return pinhole };
+        let d = pinhole.dir;
+        let in_focus = self.from + d * (l.focus / d.dot(l.forward));
+        let (x, y) = concentric_disc(lu, lv);
+        let origin = self.from + l.right * (x * l.radius) + l.up * (y * l.radius);
+        Ray::new(origin, (in_focus - origin).normalize())
     }
 
     /// The primary ray through the centre of pixel (x, y).
@@ -52,6 +100,18 @@ impl Camera {
         let dir = self.corner + self.dx * px + self.dy * py;
         Ray::new(self.from, dir.normalize())
     }
+}
+
+/// Shirley and Chiu's concentric map of the unit square onto the unit
+/// disc (areas kept, strata kept compact).
+fn concentric_disc(u: f32, v: f32) -> (f32, f32) {
+    let (a, b) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+    if a == 0.0 && b == 0.0 {
+        return (0.0, 0.0);
+    }
+    let q = std::f32::consts::FRAC_PI_4;
+    let (r, phi) = if a.abs() > b.abs() { (a, q * (b / a)) } else { (b, 2.0 * q - q * (a / b)) };
+    (r * phi.cos(), r * phi.sin())
 }
 
 #[cfg(test)]
@@ -82,5 +142,23 @@ mod tests {
     #[test]
     fn up_parallel_is_refused() {
         assert!(Camera::new(Vec3::ZERO, Vec3::Y, Vec3::Y, 45.0, 10, 10).is_none());
+    }
+
+    #[test]
+    fn a_lens_focuses_on_its_plane() {
+        let c = Camera::new(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 90.0, 100, 100).unwrap();
+        let c = c.with_lens(0.5, 4.0);
+        // Every lens point's ray through pixel (30, 60) meets the pinhole
+        // ray at depth 4.
+        let p = c.ray_at(30.5, 60.5);
+        let want = p.dir * (4.0 / -p.dir.z);
+        for (u, v) in [(0.1, 0.9), (0.5, 0.5), (0.99, 0.2), (0.3, 0.3)] {
+            let r = c.lens_ray(30.5, 60.5, u, v);
+            assert!(r.origin.length() <= 0.5 + 1e-6 && r.origin.z == 0.0);
+            let t = (want.z - r.origin.z) / r.dir.z;
+            assert!((r.origin + r.dir * t - want).length() < 1e-4);
+        }
+        let (x, y) = concentric_disc(1.0, 0.5);
+        assert!((x - 1.0).abs() < 1e-6 && y.abs() < 1e-6);
     }
 }

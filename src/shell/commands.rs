@@ -304,6 +304,14 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         b.set_trace_depth(a.int(0)?).map_err(e)?;
         Ok(None)
     });
+    numeric(interp, &scene, "camera_aperture", "r", "the thin lens's radius", move |b, a| {
+        b.set_aperture(a.f64(0)?).map_err(e)?;
+        Ok(None)
+    });
+    numeric(interp, &scene, "camera_focus", "d", "the distance in focus", move |b, a| {
+        b.set_focus(a.f64(0)?).map_err(e)?;
+        Ok(None)
+    });
     numeric(interp, &scene, "samples", "n", "camera rays per pixel, stratified", move |b, a| {
         b.sampling.set_samples(a.int(0)?).map_err(e)?;
         Ok(None)

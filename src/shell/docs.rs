@@ -52,6 +52,18 @@ pub const SCENE: &[Doc] = &[
         example: "camera_resolution 640 480",
     },
     Doc {
+        name: "camera_aperture",
+        meaning: "the thin lens's radius in scene units (depth of field); 0 is a pinhole. The lens is sampled with the pixel's samples (a second stratified pattern), so raise `samples` with it",
+        default: "0",
+        example: "camera_aperture 0.05",
+    },
+    Doc {
+        name: "camera_focus",
+        meaning: "the distance in focus, along the view direction",
+        default: "the distance from `camera_from` to `camera_target` (the length of the `camera_forw` vector)",
+        example: "camera_focus 6.2",
+    },
+    Doc {
         name: "vertex",
         meaning: "add a vertex; returns its index (from 0)",
         default: "",

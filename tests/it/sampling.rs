@@ -201,3 +201,37 @@ pub fn sampling_commands_refuse_bad_values() {
         assert!(err.starts_with(&format!("-c:1: {msg}")), "{script}: {err}");
     }
 }
+
+/// Depth of field: an out-of-focus bright ball blurs into the thin lens's
+/// circle of confusion. A 90° camera of W pixels images a point at depth z,
+/// seen through a lens of radius A focused at depth f, as a disc of radius
+/// R = (W/2)·A·|1/f − 1/z| pixels; a uniform disc has E[r²] = R²/2, to
+/// which the ball's own disc (radius s: s²/2) and the pixel (1/6) add.
+pub fn depth_of_field_blurs_into_the_circle_of_confusion() {
+    let dir = scratch("sampling-dof");
+    let (w, a, z, ball) = (101.0f64, 0.5, 4.0, 0.1);
+    let s = (w / 2.0) * ball / (z * z - ball * ball).sqrt();
+    // As bright as keeps every pixel below 1 (no clipping).
+    for (focus, light) in [(2.0f64, 20), (4.0, 1), (8.0, 5)] {
+        let script = format!(
+            "camera_resolution 101 101; camera_angle 90; camera_from 0 0 0; camera_target 0 0 -1\n\
+             ambient_light {light} {light} {light}; material 1 1 1 1 0 0 1 0 1; sphere 0 0 -{z} {ball}\n\
+             camera_aperture {a}; camera_focus {focus}; samples 400; render d.ppm"
+        );
+        let img = render(&dir, &[], &script);
+        let (mut m0, mut m2) = (0.0f64, 0.0f64);
+        for j in 0..101u32 {
+            for i in 0..101u32 {
+                let v = img.rgb[((j * 101 + i) * 3) as usize] as f64 / 255.0;
+                let (dx, dy) = (i as f64 + 0.5 - 50.5, j as f64 + 0.5 - 50.5);
+                m0 += v;
+                m2 += v * (dx * dx + dy * dy);
+            }
+        }
+        let r = (w / 2.0) * a * (1.0 / focus - 1.0 / z).abs();
+        let want = r * r / 2.0 + s * s / 2.0 + 1.0 / 6.0;
+        let got = m2 / m0;
+        assert!((got / want - 1.0).abs() < 0.08, "focus {focus}: E[r²] {got} vs {want} (R = {r})");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
