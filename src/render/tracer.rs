@@ -157,34 +157,40 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let sampling = &scene.sampling;
     let table = FilterTable::new(sampling.filter);
     let stats = per_pixel(cam.width, cam.height, job, out, |x, y, st| {
-        if sampling.samples <= 1 && !cam.has_lens() {
+        if sampling.samples <= 1 && !cam.has_lens() && sampling.adaptive.is_none() {
             // The pixel centre, as COS 426 traces it.
             st.primary += 1;
             st.limit = st.total() + MAX_RAYS_PER_PIXEL;
             return trace(scene, &cam.ray(x, y), 0, 1.0, Media::default(), st);
         }
-        let n = sampling.samples;
         let key = sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64);
-        // Image and lens points from two patterns, stratified each.
-        let (pattern, lens_pattern) = (key as u32, (key >> 32) as u32);
-        let (mut sum, mut weights, mut plain) = (Vec3::ZERO, 0.0f32, Vec3::ZERO);
-        for s in 0..n {
-            let (u, v) = sample::cmj(s, n, pattern);
-            let ((dx, wx), (dy, wy)) = (table.sample(u), table.sample(v));
-            st.primary += 1;
-            // The cap on rays is per camera ray.
-            st.limit = st.total() + MAX_RAYS_PER_PIXEL;
-            let (lu, lv) =
-                if cam.has_lens() { sample::cmj(s, n, lens_pattern) } else { (0.5, 0.5) };
-            let ray = cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv);
-            let c = trace(scene, &ray, 0, 1.0, Media::default(), st);
-            sum += (wx * wy) * c;
-            weights += wx * wy;
-            plain += c;
+        let mut acc = PixelSum::default();
+        // The first batch is `samples`; adaptive sampling adds batches (of
+        // at least 4) while the mean's standard error is above the
+        // threshold, up to its maximum.
+        let mut n = sampling.samples;
+        for batch in 0u64.. {
+            let key = if batch == 0 { key } else { sample::mix(key ^ batch) };
+            // Image and lens points from two patterns, stratified each.
+            let (pattern, lens_pattern) = (key as u32, (key >> 32) as u32);
+            for s in 0..n {
+                let (u, v) = sample::cmj(s, n, pattern);
+                let ((dx, wx), (dy, wy)) = (table.sample(u), table.sample(v));
+                st.primary += 1;
+                // The cap on rays is per camera ray.
+                st.limit = st.total() + MAX_RAYS_PER_PIXEL;
+                let (lu, lv) =
+                    if cam.has_lens() { sample::cmj(s, n, lens_pattern) } else { (0.5, 0.5) };
+                let ray = cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv);
+                acc.add(trace(scene, &ray, 0, 1.0, Media::default(), st), wx * wy);
+            }
+            let Some((threshold, max)) = sampling.adaptive else { break };
+            n = sampling.samples.max(4);
+            if acc.count + n > max || acc.standard_error() <= threshold {
+                break;
+            }
         }
-        // Negative lobes (Mitchell) can leave too little weight with few
-        // samples: the plain mean then.
-        if weights > 0.25 * n as f32 { sum / weights } else { plain / n as f32 }
+        acc.value()
     })?;
     // The picture itself, not a copy of it (64 Mpixel are 768 MiB).
     let pixels = match own {
@@ -192,6 +198,50 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
         None => out.lock().unwrap_or_else(|e| e.into_inner()).clone(),
     };
     Some((Image { width: r.width(), height: r.height(), pixels }, stats))
+}
+
+/// A pixel's samples so far: the filter-weighted sum, and the plain sums
+/// of colour and of luminance (and its square) for adaptive sampling.
+#[derive(Default)]
+struct PixelSum {
+    sum: Vec3,
+    weights: f32,
+    plain: Vec3,
+    count: u32,
+    lum: f64,
+    lum2: f64,
+}
+
+impl PixelSum {
+    fn add(&mut self, c: Vec3, w: f32) {
+        self.sum += w * c;
+        self.weights += w;
+        self.plain += c;
+        self.count += 1;
+        let l = c.dot(Vec3::new(0.2126, 0.7152, 0.0722)) as f64;
+        self.lum += l;
+        self.lum2 += l * l;
+    }
+
+    /// The standard error of the mean luminance (infinite with one sample).
+    fn standard_error(&self) -> f32 {
+        if self.count < 2 {
+            return f32::INFINITY;
+        }
+        let n = self.count as f64;
+        let var = ((self.lum2 - self.lum * self.lum / n) / (n - 1.0)).max(0.0);
+        (var / n).sqrt() as f32
+    }
+
+    /// The filter-weighted mean. Negative lobes (Mitchell) can leave too
+    /// little weight with few samples: the plain mean then.
+    fn value(&self) -> Vec3 {
+        if self.weights > 0.25 * self.count as f32 {
+            self.sum / self.weights
+        } else {
+            self.plain / self.count as f32
+        }
+    }
 }
 
 /// Applies the scene's exposure and tone map to a rendered picture (the

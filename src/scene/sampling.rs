@@ -142,6 +142,8 @@ pub struct Sampling {
     /// Values are multiplied by 2^exposure before tone mapping.
     pub exposure: f32,
     pub tonemap: Tonemap,
+    /// Adaptive sampling: (threshold, most samples per pixel).
+    pub adaptive: Option<(f32, u32)>,
 }
 
 impl Default for Sampling {
@@ -154,6 +156,7 @@ impl Default for Sampling {
             frame: 0,
             exposure: 0.0,
             tonemap: Tonemap::Clamp,
+            adaptive: None,
         }
     }
 }
@@ -161,6 +164,8 @@ impl Default for Sampling {
 impl Sampling {
     /// The most camera rays per pixel `samples` accepts.
     pub const MAX_SAMPLES: u32 = 1 << 16;
+    /// The most samples adaptive sampling spends on a pixel unless told.
+    pub const DEFAULT_ADAPTIVE_MAX: u32 = 1024;
 
     pub fn set_samples(&mut self, n: i64) -> Result<(), SceneError> {
         if !(1..=Sampling::MAX_SAMPLES as i64).contains(&n) {
@@ -170,6 +175,24 @@ impl Sampling {
             )));
         }
         self.samples = n as u32;
+        Ok(())
+    }
+
+    /// `adaptive threshold ?max?`: a threshold of 0 turns it off.
+    pub fn set_adaptive(&mut self, threshold: f64, max: Option<i64>) -> Result<(), SceneError> {
+        if !(threshold >= 0.0 && threshold.is_finite()) {
+            return Err(SceneError::Invalid(format!(
+                "adaptive threshold must be 0 (off) or more, got {threshold}"
+            )));
+        }
+        let max = max.unwrap_or(Sampling::DEFAULT_ADAPTIVE_MAX as i64);
+        if !(1..=Sampling::MAX_SAMPLES as i64).contains(&max) {
+            return Err(SceneError::Invalid(format!(
+                "adaptive maximum must be between 1 and {}, got {max}",
+                Sampling::MAX_SAMPLES
+            )));
+        }
+        self.adaptive = (threshold > 0.0).then_some((threshold as f32, max as u32));
         Ok(())
     }
 

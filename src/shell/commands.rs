@@ -350,6 +350,24 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
     );
     let s = scene.clone();
     interp.register_host(
+        "adaptive",
+        "threshold ?max?",
+        "add samples where the pixel is still uncertain",
+        move |_, argv| {
+            check_args(argv, 2, 3, "threshold ?max?")?;
+            let threshold = finite_arg(&argv[1], "adaptive: threshold")?;
+            let max = match argv.get(2) {
+                Some(v) => Some(v.as_int()?),
+                None => None,
+            };
+            let mut b = s.borrow_mut();
+            b.generation += 1;
+            b.sampling.set_adaptive(threshold, max).map_err(e)?;
+            Ok(Value::empty())
+        },
+    );
+    let s = scene.clone();
+    interp.register_host(
         "tonemap",
         "clamp|reinhard|aces",
         "how values above 1 reach the file",

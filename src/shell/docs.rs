@@ -160,6 +160,12 @@ pub const SCENE: &[Doc] = &[
         example: "filter mitchell",
     },
     Doc {
+        name: "adaptive",
+        meaning: "after each pixel's `samples`, add batches of that many (at least 4) while the standard error of the pixel's mean luminance (linear units) is above `threshold`, up to `max` camera rays per pixel (default 1024); `adaptive 0` turns it off. `--stats` reports the camera rays spent per pixel",
+        default: "off",
+        example: "adaptive 0.005 256",
+    },
+    Doc {
         name: "seed",
         meaning: "the noise pattern of sampled pictures, and nothing else; every random number is a hash of (seed, `--seed`, frame, pixel, sample)",
         default: "0",

@@ -127,6 +127,11 @@ impl std::fmt::Display for RenderReport {
         )?;
         writeln!(
             f,
+            "samples    {:.2} camera rays per pixel",
+            r.primary as f64 / (self.width as f64 * self.height as f64).max(1.0)
+        )?;
+        writeln!(
+            f,
             "speed      {:.2} Mrays/s",
             r.total() as f64 / self.render_seconds.max(1e-9) / 1e6
         )?;

@@ -235,3 +235,36 @@ pub fn depth_of_field_blurs_into_the_circle_of_confusion() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Adaptive sampling: on the half-plane, where only edge pixels vary, it
+/// reaches uniform sampling's error with far fewer samples, and `--stats`
+/// says how many it spent. The measure is the standard error of the
+/// pixel's mean luminance.
+pub fn adaptive_sampling_spends_fewer_samples_for_the_same_error() {
+    let dir = scratch("sampling-adaptive");
+    let (w, h) = (48, 48);
+    let line = (0.45, -0.89, 0.45 * 24.3 - 0.89 * 23.7);
+    let scene = half_plane_scene(w, h, line);
+    let spent = |args: &[&str], script: &str| -> (rayshell::image::Rgb8, f64) {
+        let r = raytrace()
+            .args(args)
+            .args(["-q", "--stats", "-c", script])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+        let err = text(&r.stderr);
+        let line = err.lines().find(|l| l.starts_with("samples ")).expect("a samples line");
+        let per_pixel: f64 = line.split_whitespace().nth(1).unwrap().parse().unwrap();
+        let img = rayshell::image::read_rgb8(&std::fs::read(dir.join("a.ppm")).unwrap()).unwrap();
+        (img, per_pixel)
+    };
+    let (uniform, u_spent) = spent(&[], &format!("{scene}samples 64; render a.ppm"));
+    let (adaptive, a_spent) =
+        spent(&[], &format!("{scene}samples 8; adaptive 0.01 256; render a.ppm"));
+    let (eu, ea) = (edge_error(&uniform, line).0, edge_error(&adaptive, line).0);
+    assert_eq!(u_spent, 64.0);
+    assert!(ea <= eu * 1.1, "adaptive error {ea} vs uniform {eu}");
+    assert!(a_spent < u_spent / 3.0, "adaptive spent {a_spent} per pixel");
+    let _ = std::fs::remove_dir_all(&dir);
+}
