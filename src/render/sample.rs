@@ -24,6 +24,15 @@ pub fn pixel_key(s: &Sampling, pixel: u64) -> u64 {
     mix(mix(seeds ^ s.frame as u64) ^ pixel)
 }
 
+/// Two numbers in [0, 1) for stratum `k` of shading dimension `dim` of a
+/// camera ray with key `key`.
+#[inline]
+pub fn jitter(key: u64, dim: u32, k: u32) -> (f32, f32) {
+    let h = mix(key ^ mix(((dim as u64) << 32) | k as u64));
+    let unit = |bits: u64| (bits & 0xff_ffff) as f32 * (1.0 / (1u32 << 24) as f32);
+    (unit(h), unit(h >> 32))
+}
+
 /// Kensler's permutation of 0..l by the pattern `p` (cycle walking).
 fn permute(mut i: u32, l: u32, p: u32) -> u32 {
     let mut w = l - 1;

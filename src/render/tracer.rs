@@ -49,6 +49,10 @@ pub struct RayStats {
     /// The ray count (`total`) at which the current pixel's tree stops
     /// branching; 0: no limit.
     pub limit: u64,
+    /// The current camera ray's random key, and how many shading points
+    /// have drawn from it (`next_dim`).
+    pub key: u64,
+    pub dim: u32,
 }
 
 impl RayStats {
@@ -60,7 +64,23 @@ impl RayStats {
             refracted: self.refracted + o.refracted,
             bvh_steps: self.bvh_steps + o.bvh_steps,
             limit: 0,
+            key: 0,
+            dim: 0,
         }
+    }
+
+    /// A fresh dimension of the camera ray's random numbers.
+    pub(crate) fn next_dim(&mut self) -> u32 {
+        self.dim += 1;
+        self.dim
+    }
+
+    /// Starts a camera ray: its ray budget and its random numbers.
+    fn start(&mut self, key: u64) {
+        self.primary += 1;
+        self.limit = self.total() + MAX_RAYS_PER_PIXEL;
+        self.key = key;
+        self.dim = 0;
     }
 
     pub fn total(&self) -> u64 {
@@ -159,8 +179,7 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let stats = per_pixel(cam.width, cam.height, job, out, |x, y, st| {
         if sampling.samples <= 1 && !cam.has_lens() && sampling.adaptive.is_none() {
             // The pixel centre, as COS 426 traces it.
-            st.primary += 1;
-            st.limit = st.total() + MAX_RAYS_PER_PIXEL;
+            st.start(sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64));
             return trace(scene, &cam.ray(x, y), 0, 1.0, Media::default(), st);
         }
         let key = sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64);
@@ -176,9 +195,8 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
             for s in 0..n {
                 let (u, v) = sample::cmj(s, n, pattern);
                 let ((dx, wx), (dy, wy)) = (table.sample(u), table.sample(v));
-                st.primary += 1;
                 // The cap on rays is per camera ray.
-                st.limit = st.total() + MAX_RAYS_PER_PIXEL;
+                st.start(sample::mix(key ^ (s as u64) << 32));
                 let (lu, lv) =
                     if cam.has_lens() { sample::cmj(s, n, lens_pattern) } else { (0.5, 0.5) };
                 let ray = cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv);
@@ -374,6 +392,17 @@ pub fn trace(
     }
     let (hit, steps) = scene.bvh.intersect(ray, 0.0, f32::INFINITY);
     st.bvh_steps += steps as u64;
+    // Lights with a size are seen where nothing nearer is.
+    let nearest = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+    let seen = scene
+        .lights
+        .iter()
+        .filter(|l| l.is_visible())
+        .filter_map(|l| l.hit(ray, nearest))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some((_, radiance)) = seen {
+        return radiance;
+    }
     match hit {
         Some(h) => shade(scene, ray, &h, depth, weight, media, st),
         None => scene.background,
@@ -462,40 +491,52 @@ fn shade(
     let shadow_origin =
         if lifted { shadow_from + ng * offset(shadow_from, ray.origin) } else { above };
     for light in &scene.lights {
-        // A light below the facet but above the smooth surface is left to
-        // the shadow ray from the lifted point, not cut off here.
-        let (l, dist, li) = light.at(p);
-        if li == Vec3::ZERO {
-            continue;
-        }
-        let n_dot_l = ns.dot(l);
-        if n_dot_l <= 0.0 {
-            continue;
-        }
-        st.shadow += 1;
-        let (l_s, dist_s) = if lifted {
-            let (l_s, dist_s, _) = light.at(shadow_origin);
-            (l_s, dist_s)
-        } else {
-            (l, dist)
-        };
-        // Stop short of the light by the same margin as the start.
-        let t_max = if dist_s.is_finite() { dist_s * (1.0 - 2.0 * OFFSET) } else { f32::INFINITY };
-        let through = scene.bvh.transmittance(&Ray::new(shadow_origin, l_s), 0.0, t_max, |prim| {
-            filter(&scene.materials[scene.bvh.material(prim) as usize])
-        });
-        if through == Vec3::ZERO {
-            continue;
-        }
-        let mut c = m.kd * m.color * li * n_dot_l;
-        if m.ks > 0.0 {
-            let r = reflect(-l, ns);
-            let r_dot_v = r.dot(view).max(0.0);
-            if r_dot_v > 0.0 {
-                c += m.ks * li * r_dot_v.powf(m.ns);
+        let samples = light.samples();
+        // This shading point's stratified jitter for the lights with a size.
+        let dim = st.next_dim();
+        for k in 0..samples {
+            let jitter = if samples > 1 || light.is_visible() {
+                sample::jitter(st.key, dim, k)
+            } else {
+                (0.5, 0.5)
+            };
+            // A light below the facet but above the smooth surface is left to
+            // the shadow ray from the lifted point, not cut off here.
+            let (l, dist, li) = light.sample_at(p, k, jitter);
+            if li == Vec3::ZERO {
+                continue;
             }
+            let n_dot_l = ns.dot(l);
+            if n_dot_l <= 0.0 {
+                continue;
+            }
+            st.shadow += 1;
+            let (l_s, dist_s) = if lifted {
+                let (l_s, dist_s, _) = light.sample_at(shadow_origin, k, jitter);
+                (l_s, dist_s)
+            } else {
+                (l, dist)
+            };
+            // Stop short of the light by the same margin as the start.
+            let t_max =
+                if dist_s.is_finite() { dist_s * (1.0 - 2.0 * OFFSET) } else { f32::INFINITY };
+            let through =
+                scene.bvh.transmittance(&Ray::new(shadow_origin, l_s), 0.0, t_max, |prim| {
+                    filter(&scene.materials[scene.bvh.material(prim) as usize])
+                });
+            if through == Vec3::ZERO {
+                continue;
+            }
+            let mut c = m.kd * m.color * li * n_dot_l;
+            if m.ks > 0.0 {
+                let r = reflect(-l, ns);
+                let r_dot_v = r.dot(view).max(0.0);
+                if r_dot_v > 0.0 {
+                    c += m.ks * li * r_dot_v.powf(m.ns);
+                }
+            }
+            color += through * c;
         }
-        color += through * c;
     }
 
     if depth < scene.trace_depth {

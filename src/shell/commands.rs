@@ -110,6 +110,41 @@ fn finite_arg(v: &Value, what: &str) -> Result<f64, Exception> {
     }
 }
 
+/// `numeric` for a command whose last `optional` numbers may be left out
+/// (`usage` writes them as `?n?`): `f` sees how many were given.
+fn numeric_opt(
+    interp: &mut Interp,
+    scene: &Shared,
+    name: &str,
+    usage: &str,
+    optional: usize,
+    summary: &str,
+    f: impl Fn(&mut Builder, &Args, usize) -> Result<(), Exception> + 'static,
+) {
+    let words: Vec<String> =
+        usage.split_whitespace().map(|w| w.trim_matches(['?']).to_string()).collect();
+    let max = words.len();
+    let s = scene.clone();
+    let (n, u) = (name.to_string(), usage.to_string());
+    interp.register_host(name, usage, summary, move |_, argv| {
+        check_args(argv, max + 1 - optional, max + 1, &u)?;
+        let mut nums = Vec::with_capacity(argv.len() - 1);
+        for (i, v) in argv[1..].iter().enumerate() {
+            nums.push(v.as_num().ok_or_else(|| {
+                Exception::error(format!(
+                    "{n}: {}: expected number but got \"{}\"",
+                    words[i],
+                    v.as_str()
+                ))
+            })?);
+        }
+        let mut b = s.borrow_mut();
+        b.generation += 1;
+        f(&mut b, &Args { nums: &nums, name: &n, usage: &u }, nums.len())?;
+        Ok(Value::empty())
+    });
+}
+
 /// Registers the scene commands, sharing one builder and the shell state.
 pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState>>) {
     let e = scene_err;
@@ -278,6 +313,32 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
                 Light::spot(a.vec3(0)?, a.pos(3)?, a.vec3(6)?, a.f32(9)?, a.f32(10)?).map_err(e)?;
             b.add_light(l).map_err(e)?;
             Ok(None)
+        },
+    );
+    numeric_opt(
+        interp,
+        &scene,
+        "area_light",
+        "r g b x y z ux uy uz vx vy vz ?n?",
+        1,
+        "a parallelogram light of radiance (r, g, b), corner (x, y, z), edges u and v, lit side u × v; n × n samples",
+        move |b, a, count| {
+            let n = if count > 12 { a.int(12)? } else { 4 };
+            let l = Light::area(a.vec3(0)?, a.pos(3)?, a.vec3(6)?, a.vec3(9)?, n).map_err(e)?;
+            b.add_light(l).map_err(e)
+        },
+    );
+    numeric_opt(
+        interp,
+        &scene,
+        "sphere_light",
+        "r g b x y z radius ?n?",
+        1,
+        "a spherical light of radiance (r, g, b); n × n samples by solid angle",
+        move |b, a, count| {
+            let n = if count > 7 { a.int(7)? } else { 4 };
+            let l = Light::sphere(a.vec3(0)?, a.pos(3)?, a.f32(6)?, n).map_err(e)?;
+            b.add_light(l).map_err(e)
         },
     );
     numeric(

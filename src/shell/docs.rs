@@ -136,6 +136,18 @@ pub const SCENE: &[Doc] = &[
         example: "spot_light 40 40 40  0 5 0  0 -1 0  15 25",
     },
     Doc {
+        name: "area_light",
+        meaning: "a parallelogram light: corner (x, y, z), edges u and v, emitting radiance (r, g, b) (what a camera looking at it sees) from the side u × v points to; n × n stratified shadow samples per shading point (1..32). Seen by camera and reflected rays from its lit side; its back is not there. A small one of area A far away lights like `point_light` L·A/π",
+        default: "n = 4",
+        example: "area_light 10 10 10  -1 4 -1  2 0 0  0 0 2",
+    },
+    Doc {
+        name: "sphere_light",
+        meaning: "a spherical light of radiance (r, g, b), sampled by solid angle, n × n samples per shading point; seen by camera and reflected rays",
+        default: "n = 4",
+        example: "sphere_light 5 5 4  2 3 1  0.3",
+    },
+    Doc {
         name: "material",
         meaning: "colour, ambient, diffuse, specular, Phong exponent, transmittance, index of refraction (an ior of 0 is accepted when T is 0, as SPD-style opaque scenes write it)",
         default: "1 1 1  0.2 0.8 0 1 0 1",

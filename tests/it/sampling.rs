@@ -327,3 +327,44 @@ pub fn agrees_with_mitsuba_on_a_lambert_scene() {
     assert!((sum_ours - sum_ref).abs() / n < 0.001, "means {} vs {}", sum_ours / n, sum_ref / n);
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// The light a point receives from a lit rectangle or sphere, against the
+/// closed forms: a white Lambert floor point under a corner of an a×b
+/// rectangle of radiance L at height h reflects L·F, F the form factor
+/// (1/2π)(X/√(1+X²)·atan(Y/√(1+X²)) + Y/√(1+Y²)·atan(X/√(1+Y²))), X = a/h,
+/// Y = b/h; under its centre, four such quarters. Under a sphere of radius
+/// R at height d: L·(R/d)².
+pub fn area_and_sphere_lights_match_their_form_factors() {
+    let dir = scratch("sampling-area");
+    let corner_ff = |a: f64, b: f64, h: f64| {
+        let (x, y) = (a / h, b / h);
+        let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+        (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * std::f64::consts::PI)
+    };
+    let (a, b, h, l) = (2.0, 1.0, 1.5, 2.0);
+    // The camera looks down at the origin, past the sphere and through the
+    // rectangles' backs (seen from the front only): its centre pixel.
+    let floor = "camera_resolution 33 33; camera_from 3 4 0; camera_target 0 0 0\n\
+                 material 1 1 1 0 1 0 1 0 1\n\
+                 tri [vertex -9 0 -9] [vertex -9 0 9] [vertex 9 0 9]\n\
+                 tri [vertex -9 0 -9] [vertex 9 0 9] [vertex 9 0 -9]\n";
+    let cases = [
+        (
+            "under the centre",
+            format!("area_light {l} {l} {l}  {} {h} {}  {a} 0 0  0 0 {b}  32", -a / 2.0, -b / 2.0),
+            l * 4.0 * corner_ff(a / 2.0, b / 2.0, h),
+        ),
+        (
+            "under a corner",
+            format!("area_light {l} {l} {l}  0 {h} 0  {a} 0 0  0 0 {b}  32"),
+            l * corner_ff(a, b, h),
+        ),
+        ("under a sphere", "sphere_light 3 3 3  0 2 0  0.6 32".to_string(), 3.0 * 0.09),
+    ];
+    for (what, light, want) in cases {
+        let img = render(&dir, &[], &format!("{floor}{light}\nrender a.ppm"));
+        let got = img.rgb[(16 * 33 + 16) * 3] as f64 / 255.0;
+        assert!((got - want).abs() <= 1.5 / 255.0, "{what}: {got} vs {want}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
