@@ -11,7 +11,7 @@ use std::time::Duration;
 use libfuzzer_sys::fuzz_target;
 use rayshell::shell::{CaptureHost, INTERRUPTED, Session};
 
-const PRELUDES: [&str; 8] = [
+const PRELUDES: [&str; 10] = [
     "",
     // Ks + T > 1 at depth 64 through glass: the ray tree doubles per bounce.
     "trace_depth 64; material 1 1 1 0 0 0.5 1 1 1.5\n\
@@ -31,6 +31,12 @@ const PRELUDES: [&str; 8] = [
      material 1 1 1 0 0 1 1 0 1; sphere 0 0 -4 1",
     // The smallest and largest spheres.
     "sphere 0 0 -5 1e-38; sphere 1e37 0 0 1e37",
+    // Sampling: many samples, a wide Mitchell filter, a lens, adaptive.
+    "samples 9; filter mitchell 4; camera_aperture 0.3; camera_focus 2; adaptive 0.001 64\n\
+     sphere 0 0 -4 1",
+    // Lights with a size, tiny and huge, inside a sphere light.
+    "area_light 5 5 5 -1 3 -1 2 0 0 0 0 2 8; sphere_light 1 1 1 0 0 -4 2 3\n\
+     area_light 1 1 1 0 0 0 1e-30 0 0 0 1e-30 0 1; sphere 0 0 -4 1",
 ];
 
 fuzz_target!(|data: &[u8]| {
@@ -41,7 +47,7 @@ fuzz_target!(|data: &[u8]| {
         std::fs::create_dir_all(&dir).unwrap();
         std::env::set_current_dir(&dir).unwrap();
     });
-    let prelude = PRELUDES[(head & 7) as usize];
+    let prelude = PRELUDES[(head as usize + rest.len()) % PRELUDES.len()];
     let src = format!(
         "camera_resolution 8 8; point_light 1 1 1 0 5 5\n{prelude}\n{}\nrender fuzz.png\n",
         String::from_utf8_lossy(rest)

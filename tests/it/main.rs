@@ -65,7 +65,7 @@ fn main() {
         sampling::sampling_commands_refuse_bad_values,
         sampling::depth_of_field_blurs_into_the_circle_of_confusion,
         sampling::adaptive_sampling_spends_fewer_samples_for_the_same_error,
-        sampling::agrees_with_mitsuba_on_a_lambert_scene,
+        sampling::agrees_with_mitsuba_on_lambert_scenes,
         sampling::area_and_sphere_lights_match_their_form_factors,
         bad::the_corpus_is_big_enough,
         bad::every_bad_input_exits_with_a_located_message,
