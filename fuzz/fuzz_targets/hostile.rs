@@ -36,7 +36,7 @@ const PRELUDES: [&str; 10] = [
      sphere 0 0 -4 1",
     // Lights with a size, tiny and huge, inside a sphere light.
     "area_light 5 5 5 -1 3 -1 2 0 0 0 0 2 8; sphere_light 1 1 1 0 0 -4 2 3\n\
-     area_light 1 1 1 0 0 0 1e-30 0 0 0 1e-30 0 1; sphere 0 0 -4 1",
+     area_light 1 1 1 0 0 0 1e-18 0 0 0 1e-18 0 1; sphere 0 0 -4 1",
 ];
 
 fuzz_target!(|data: &[u8]| {
