@@ -94,7 +94,7 @@ impl Light {
         v: Vec3,
         n: i64,
     ) -> Result<Light, SceneError> {
-        if u.cross(v).length_squared() == 0.0 || !u.cross(v).is_finite() {
+        if robust_length(u.cross(v)) == 0.0 || !u.cross(v).is_finite() {
             return Err(SceneError::Invalid(
                 "area light edges u and v must not be parallel or zero".into(),
             ));
@@ -135,7 +135,7 @@ impl Light {
                 let r = r2.sqrt();
                 let l = d / r;
                 let normal = u.cross(v);
-                let area = normal.length();
+                let area = robust_length(normal);
                 let cos_l = -l.dot(normal / area);
                 if !(cos_l > 0.0 && r2 > 0.0) {
                     return (l, r, Vec3::ZERO);
@@ -290,6 +290,12 @@ fn light_samples(n: i64) -> Result<u32, SceneError> {
         )));
     }
     Ok(n as u32)
+}
+
+/// |v| without underflow for tiny vectors (a light 1e-20 across).
+fn robust_length(v: Vec3) -> f32 {
+    let m = v.abs().max_element();
+    if m == 0.0 || !m.is_finite() { m } else { m * (v / m).length() }
 }
 
 /// Two unit vectors that make an orthonormal basis with `w` (Duff et al.).
