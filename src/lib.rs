@@ -15,10 +15,11 @@
 //! - `scene`: `Builder` (mutable, checked, double precision), `Scene`
 //!   (frozen, single precision relative to the eye), camera, lights,
 //!   materials.
-//! - `render`: the Whitted tracer (`tracer`: shading, the media a ray is
-//!   in, ray offsets), parallel over tiles; `job` says which pixels (crops),
-//!   in what order (progressive passes), and carries progress and
-//!   cancellation.
+//! - `render`: the Whitted tracer (`tracer`: samples per pixel, shading,
+//!   lights with a size, the media a ray is in, ray offsets), parallel over
+//!   tiles; `sample`: hashed random numbers, stratified points (CMJ) and
+//!   filter importance sampling; `job` says which pixels (crops), in what
+//!   order (progressive passes), and carries progress and cancellation.
 //! - `image`: the linear f32 image, PPM and PNG writers and readers (with a
 //!   crop's placement).
 //! - `mem`: the memory budget: a counting allocator, `reserve` before big
@@ -37,9 +38,10 @@
 //!   `render` and `image` never see interpreter values (`tests/it/tidy.rs`
 //!   checks the layering).
 //! - Only `shell` does I/O; `image` writes to `impl Write`.
-//! - Rendering reads a frozen `Scene` and uses no randomness; each pixel
-//!   depends on its own ray only: the picture is the same for any thread
-//!   count, tile order, pass order, crop or shard.
+//! - Rendering reads a frozen `Scene`; every random number is a hash of
+//!   (seed, frame, pixel, sample, dimension), and each pixel depends on its
+//!   own samples only: the picture is the same for any thread count, tile
+//!   order, pass order, crop or shard.
 //! - The BVH's four-lane triangle test does the scalar watertight test's
 //!   arithmetic lane for lane: the same hits, to the bit.
 //! - The builder keeps positions in double precision; a frozen `Scene` is

@@ -1,8 +1,8 @@
 //! How a render runs: which pixels (a crop rectangle), in what order (plain
 //! tiles, or progressive coarse-to-fine passes), and what another thread
 //! may watch or steer while it runs (pixels done, the picture so far,
-//! cancellation). Each pixel's value depends on its own ray only, so the
-//! order never changes the result.
+//! cancellation). Each pixel's value depends on its own samples only, so
+//! the order never changes the result.
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};

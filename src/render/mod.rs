@@ -1,7 +1,8 @@
 //! Rendering: a recursive (Whitted) ray tracer over a frozen `Scene`, run
 //! in parallel over tiles with rayon (`job`: crops, progressive passes,
-//! progress and cancellation). There is no randomness, so the picture is the
-//! same for any thread count, tile order or pass order.
+//! progress and cancellation). Random numbers are hashes of (seed, frame,
+//! pixel, sample, dimension) (`sample`), so the picture is the same for any
+//! thread count, tile order or pass order.
 
 mod job;
 pub mod sample;
