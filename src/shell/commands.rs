@@ -853,6 +853,7 @@ fn show_command(
     argv: &[Value],
 ) -> Result<Value, Exception> {
     let usage = "show ?-blocks? ?-width cells? ?fileName?";
+    let mut previewed = false;
     let mut opts = super::term::ShowOptions::default();
     let mut file = None;
     let mut args = argv[1..].iter();
@@ -897,16 +898,29 @@ fn show_command(
         None => match &state.borrow().last_picture {
             Some(p) => (p.image.to_rgb8(Encoding::Srgb), p.image.width, p.image.height),
             None => {
-                // Nothing rendered yet: a quick preview, sized to the terminal.
-                let (pw, ph) = super::term::preview_size(b.width as f64 / b.height as f64);
+                // Nothing rendered yet: a quick preview, sized to the
+                // terminal (and never past the picture size limit), which
+                // Ctrl-C stops like any render.
+                let (mut pw, mut ph) = super::term::preview_size(b.width as f64 / b.height as f64);
+                while pw as u64 * ph as u64 > b.max_pixels && (pw > 1 || ph > 1) {
+                    (pw, ph) = ((pw / 2).max(1), (ph / 2).max(1));
+                }
                 let mut scene = Scene::freeze(b).map_err(scene_err)?;
                 scene.camera = b.camera_at(pw, ph).map_err(scene_err)?;
-                let (img, _) = render::render(&scene, &render::Job::default())
-                    .ok_or_else(super::interrupted)?;
+                let job = render::Job {
+                    cancel: Some(&super::feedback::INTERRUPTED),
+                    ..render::Job::default()
+                };
+                let (img, _) = render::render(&scene, &job).ok_or_else(super::interrupted)?;
+                previewed = true;
                 (img.to_rgb8(Encoding::Srgb), pw, ph)
             }
         },
     };
+    if previewed {
+        // Looking at the scene: no "rendered nothing" hint.
+        state.borrow_mut().renders += 1;
+    }
     interp.flush();
     super::term::show(&rgb, w, h, opts).map_err(Exception::error)?;
     Ok(Value::empty())

@@ -321,6 +321,8 @@ pub fn show_draws_the_last_render_in_half_blocks() {
     let r = run(&["-c", "sphere 0 0 -3 1; ambient_light 1 1 1; show -blocks -width 10"], "");
     assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
     assert_eq!(decode_half_blocks(&text(&r.stdout)).first().map(|r| r.len()), Some(10));
+    // The preview is a look at the scene: no "rendered nothing" hint.
+    assert!(!text(&r.stderr).contains("rendered nothing"), "{}", text(&r.stderr));
     let r = run(&["-c", "show -bogus"], "");
     assert_eq!(r.status.code(), Some(1));
 }
