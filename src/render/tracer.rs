@@ -395,9 +395,8 @@ pub fn trace(
     // Lights with a size are seen where nothing nearer is.
     let nearest = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
     let seen = scene
-        .lights
+        .emitters
         .iter()
-        .filter(|l| l.is_visible())
         .filter_map(|l| l.hit(ray, nearest))
         .min_by(|a, b| a.0.total_cmp(&b.0));
     if let Some((_, radiance)) = seen {

@@ -18,6 +18,8 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub normals: Vec<Vec3>,
     pub lights: Vec<Light>,
+    /// The lights camera and reflected rays can see (those with a size).
+    pub emitters: Vec<Light>,
     pub ambient: Vec3,
     pub background: Vec3,
     pub trace_depth: u32,
@@ -42,6 +44,12 @@ impl Scene {
             materials: b.materials.clone(),
             normals: b.normals.clone(),
             lights: b.lights.iter().map(|l| l.relative_to(b.from)).collect(),
+            emitters: b
+                .lights
+                .iter()
+                .filter(|l| l.is_visible())
+                .map(|l| l.relative_to(b.from))
+                .collect(),
             ambient: b.ambient,
             background: b.background,
             trace_depth: b.trace_depth,
