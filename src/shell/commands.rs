@@ -99,6 +99,17 @@ fn numeric(
     });
 }
 
+/// A word naming one of a closed set (`names` lists them for the message).
+fn choice<T>(
+    v: &Value,
+    what: &str,
+    parse: fn(&str) -> Option<T>,
+    names: &str,
+) -> Result<T, Exception> {
+    parse(v.as_str())
+        .ok_or_else(|| Exception::error(format!("bad {what} \"{}\": must be {names}", v.as_str())))
+}
+
 /// A word that must be a finite number (`what` names it in the message).
 fn finite_arg(v: &Value, what: &str) -> Result<f64, Exception> {
     match v.as_num().map(|n| n.to_f64()) {
@@ -392,13 +403,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "the pixel reconstruction filter (radius in pixels)",
         move |_, argv| {
             check_args(argv, 2, 3, "box|tent|gaussian|mitchell ?radius?")?;
-            let kind = FilterKind::parse(argv[1].as_str()).ok_or_else(|| {
-                Exception::error(format!(
-                    "bad filter \"{}\": must be {}",
-                    argv[1].as_str(),
-                    FilterKind::NAMES
-                ))
-            })?;
+            let kind = choice(&argv[1], "filter", FilterKind::parse, FilterKind::NAMES)?;
             let radius = match argv.get(2) {
                 Some(v) => Some(finite_arg(v, "filter: radius")? as f32),
                 None => None,
@@ -434,13 +439,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "how values above 1 reach the file",
         move |_, argv| {
             check_args(argv, 2, 2, "clamp|reinhard|aces")?;
-            let t = Tonemap::parse(argv[1].as_str()).ok_or_else(|| {
-                Exception::error(format!(
-                    "bad tone map \"{}\": must be {}",
-                    argv[1].as_str(),
-                    Tonemap::NAMES
-                ))
-            })?;
+            let t = choice(&argv[1], "tone map", Tonemap::parse, Tonemap::NAMES)?;
             let mut b = s.borrow_mut();
             b.generation += 1;
             b.sampling.tonemap = t;
