@@ -13,8 +13,9 @@
 //! - `geometry`: rays, boxes, spheres, watertight triangles, the 4-wide BVH
 //!   whose leaves hold blocks of four primitives tested in SIMD lanes.
 //! - `scene`: `Builder` (mutable, checked, double precision), `Scene`
-//!   (frozen, single precision relative to the eye), camera, lights,
-//!   materials.
+//!   (frozen, single precision relative to the eye: one BVH over the still
+//!   primitives and one per velocity of moving ones, walked by rays moved
+//!   back to time 0), camera, lights, materials, sampling settings.
 //! - `render`: the Whitted tracer (`tracer`: samples per pixel, shading,
 //!   lights with a size, the media a ray is in, ray offsets), parallel over
 //!   tiles; `sample`: hashed random numbers, stratified points (CMJ) and
@@ -49,8 +50,9 @@
 //!   renderer is absolute: the picture does not depend on where the scene
 //!   sits or on its scale.
 //! - Of hits within `bvh::TIE` of each other, the primitive added to the
-//!   scene first wins: coplanar surfaces resolve the same way for any tree,
-//!   walk order, lane or thread count.
+//!   scene first wins: coplanar surfaces resolve the same way for any tree
+//!   (still or moving), walk order, lane or thread count.
+//! - A ray carries its time; every ray spawned from it keeps it.
 //! - An image reaches its final name only whole (`shell::AtomicFile`).
 //! - No input makes the program abort or run the machine out of memory:
 //!   growth that could pass the budget (`mem`) is refused as an error, and

@@ -270,6 +270,14 @@ impl Bvh {
         self.recs[prim as usize].id
     }
 
+    /// Renumbers the primitives for the tie rule: the tree was built over
+    /// a part of the scene whose primitive `i` is number `ids[i]` in it.
+    pub fn renumber(&mut self, ids: &[u32]) {
+        for r in &mut self.recs {
+            r.id = ids[r.id as usize];
+        }
+    }
+
     /// The number of triangles (the rest are spheres).
     pub fn triangles(&self) -> usize {
         self.recs.iter().filter(|r| r.at & blocks::SPHERE == 0).count()

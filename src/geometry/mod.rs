@@ -9,7 +9,7 @@ mod ray;
 mod shapes;
 
 pub use aabb::Aabb;
-pub use bvh::{Bvh, BvhStats};
+pub use bvh::{Bvh, BvhStats, TIE};
 pub use ray::Ray;
 pub use shapes::{
     Hit, RayPre, Shape, Triangle, intersect_brute, intersect_sphere, intersect_triangle,

@@ -1,4 +1,5 @@
-//! A ray: origin and direction (not necessarily unit length).
+//! A ray: origin, direction (not necessarily unit length) and the moment
+//! in the shutter interval it samples (what moving objects are seen at).
 
 use glam::Vec3;
 
@@ -6,11 +7,25 @@ use glam::Vec3;
 pub struct Ray {
     pub origin: Vec3,
     pub dir: Vec3,
+    /// The time the ray samples; 0 unless the camera's shutter is open.
+    pub time: f32,
 }
 
 impl Ray {
+    /// A ray at time 0.
     pub fn new(origin: Vec3, dir: Vec3) -> Ray {
-        Ray { origin, dir }
+        Ray { origin, dir, time: 0.0 }
+    }
+
+    /// The same ray at `time`.
+    pub fn at_time(self, time: f32) -> Ray {
+        Ray { time, ..self }
+    }
+
+    /// A ray leaving from where this one went (a reflection, a refraction,
+    /// a shadow ray): at the same moment.
+    pub fn spawn(&self, origin: Vec3, dir: Vec3) -> Ray {
+        Ray { origin, dir, time: self.time }
     }
 
     pub fn at(&self, t: f32) -> Vec3 {

@@ -49,6 +49,16 @@ impl Shape {
         }
     }
 
+    /// The shape moved by `by` (where a moving one is at some time).
+    pub fn moved(self, by: Vec3) -> Shape {
+        match self {
+            Shape::Triangle(t) => Shape::Triangle(Triangle { p: t.p.map(|p| p + by), ..t }),
+            Shape::Sphere { center, radius, material } => {
+                Shape::Sphere { center: center + by, radius, material }
+            }
+        }
+    }
+
     pub fn material(&self) -> u32 {
         match self {
             Shape::Triangle(t) => t.material,

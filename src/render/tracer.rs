@@ -24,10 +24,13 @@ use std::sync::Mutex;
 
 use super::job::{Job, per_pixel};
 use super::sample::{self, FilterTable};
-use crate::geometry::{Hit, Ray, Shape, Triangle, intersect_brute};
+use crate::geometry::{Ray, Shape, Triangle, intersect_brute};
 use crate::image::Image;
 use crate::scene::Material;
-use crate::scene::Scene;
+use crate::scene::{Found, Scene};
+
+/// Mixed into a batch's key for its pattern of times.
+const TIME: u64 = 0x7469_6d65;
 
 /// A ray whose contribution to its pixel is below this is not traced.
 const MIN_WEIGHT: f32 = 1.0 / 1024.0;
@@ -177,10 +180,15 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let sampling = &scene.sampling;
     let table = FilterTable::new(sampling.filter);
     let stats = per_pixel(cam.width, cam.height, job, out, |x, y, st| {
-        if sampling.samples <= 1 && !cam.has_lens() && sampling.adaptive.is_none() {
+        let [t0, t1] = sampling.shutter;
+        if sampling.samples <= 1
+            && !cam.has_lens()
+            && sampling.adaptive.is_none()
+            && !sampling.has_shutter()
+        {
             // The pixel centre, as COS 426 traces it.
             st.start(sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64));
-            return trace(scene, &cam.ray(x, y), 0, 1.0, Media::default(), st);
+            return trace(scene, &cam.ray(x, y).at_time(t0), 0, 1.0, Media::default(), st);
         }
         let key = sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64);
         let mut acc = PixelSum::default();
@@ -190,8 +198,10 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
         let mut n = sampling.samples;
         for batch in 0u64.. {
             let key = if batch == 0 { key } else { sample::mix(key ^ batch) };
-            // Image and lens points from two patterns, stratified each.
+            // Image points, lens points and times from three patterns,
+            // stratified each.
             let (pattern, lens_pattern) = (key as u32, (key >> 32) as u32);
+            let time_pattern = sample::mix(key ^ TIME) as u32;
             for s in 0..n {
                 let (u, v) = sample::cmj(s, n, pattern);
                 let ((dx, wx), (dy, wy)) = (table.sample(u), table.sample(v));
@@ -199,7 +209,13 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
                 st.start(sample::mix(key ^ (s as u64) << 32));
                 let (lu, lv) =
                     if cam.has_lens() { sample::cmj(s, n, lens_pattern) } else { (0.5, 0.5) };
-                let ray = cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv);
+                let time = if sampling.has_shutter() {
+                    t0 + (t1 - t0) * sample::cmj(s, n, time_pattern).0
+                } else {
+                    t0
+                };
+                let ray =
+                    cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv).at_time(time);
                 acc.add(trace(scene, &ray, 0, 1.0, Media::default(), st), wx * wy);
             }
             let Some((threshold, max)) = sampling.adaptive else { break };
@@ -279,7 +295,8 @@ pub fn render_heatmap(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let out = Mutex::new(vec![0u32; r.pixels() as usize]);
     let stats = per_pixel(cam.width, cam.height, job, &out, |x, y, st| {
         st.primary += 1;
-        let (_, steps) = scene.bvh.intersect(&cam.ray(x, y), 0.0, f32::INFINITY);
+        let ray = cam.ray(x, y).at_time(scene.sampling.shutter[0]);
+        let (_, steps) = scene.intersect(&ray);
         st.bvh_steps += steps as u64;
         steps
     })?;
@@ -316,10 +333,10 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
     let start = std::time::Instant::now();
     let mut stats = per_pixel(cam.width, cam.height, &job, &hits, |x, y, st| {
         st.primary += 1;
-        let ray = cam.ray(x, y);
-        let (hit, steps) = scene.bvh.intersect(&ray, 0.0, f32::INFINITY);
+        let ray = cam.ray(x, y).at_time(scene.sampling.shutter[0]);
+        let (hit, steps) = scene.intersect(&ray);
         st.bvh_steps += steps as u64;
-        hit.map(|h| ray.at(h.t)).unwrap_or(Vec3::NAN)
+        hit.map(|f| ray.at(f.hit.t)).unwrap_or(Vec3::NAN)
     })
     .unwrap_or_default();
     let hits = hits.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -340,8 +357,8 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
         let t_max = if dist.is_finite() { dist - 2.0 * eps } else { f32::INFINITY };
         // Start on the light's side of the surface.
         let origin = p + l * eps;
-        (scene.bvh.transmittance(&Ray::new(origin, l), 0.0, t_max, |_| Vec3::ZERO) == Vec3::ZERO)
-            as u8
+        let ray = Ray::new(origin, l).at_time(scene.sampling.shutter[0]);
+        (scene.transmittance(&ray, t_max, |_| Vec3::ZERO) == Vec3::ZERO) as u8
     })
     .unwrap_or_default();
     stats.shadow = st2.shadow;
@@ -390,10 +407,10 @@ pub fn trace(
     {
         return Vec3::ZERO;
     }
-    let (hit, steps) = scene.bvh.intersect(ray, 0.0, f32::INFINITY);
+    let (hit, steps) = scene.intersect(ray);
     st.bvh_steps += steps as u64;
     // Lights with a size are seen where nothing nearer is.
-    let nearest = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+    let nearest = hit.as_ref().map_or(f32::INFINITY, |f| f.hit.t);
     let seen = scene
         .emitters
         .iter()
@@ -469,13 +486,14 @@ fn terminator(p: Vec3, v: [Vec3; 3], n: [Vec3; 3], b: [f32; 3]) -> Vec3 {
 fn shade(
     scene: &Scene,
     ray: &Ray,
-    hit: &Hit,
+    found: &Found,
     depth: u32,
     weight: f32,
     media: Media,
     st: &mut RayStats,
 ) -> Vec3 {
-    let shape = scene.bvh.shape(hit.prim);
+    let hit = &found.hit;
+    let shape = scene.shape(found, ray.time);
     let material = shape.material();
     let m = &scene.materials[material as usize];
     let p = ray.at(hit.t);
@@ -519,10 +537,9 @@ fn shade(
             // Stop short of the light by the same margin as the start.
             let t_max =
                 if dist_s.is_finite() { dist_s * (1.0 - 2.0 * OFFSET) } else { f32::INFINITY };
-            let through =
-                scene.bvh.transmittance(&Ray::new(shadow_origin, l_s), 0.0, t_max, |prim| {
-                    filter(&scene.materials[scene.bvh.material(prim) as usize])
-                });
+            let through = scene.transmittance(&ray.spawn(shadow_origin, l_s), t_max, |m| {
+                filter(&scene.materials[m as usize])
+            });
             if through == Vec3::ZERO {
                 continue;
             }
@@ -541,7 +558,7 @@ fn shade(
     if depth < scene.trace_depth {
         if m.ks > 0.0 && weight * m.ks >= MIN_WEIGHT {
             st.reflected += 1;
-            let r = Ray::new(above, reflect(d, ns));
+            let r = ray.spawn(above, reflect(d, ns));
             color += m.ks * trace(scene, &r, depth + 1, weight * m.ks, media, st);
         }
         if m.t > 0.0 {
@@ -556,7 +573,7 @@ fn shade(
                     let f = filter(m);
                     if weight * f.max_element() >= MIN_WEIGHT {
                         st.refracted += 1;
-                        let r = Ray::new(p - ng * eps, dir);
+                        let r = ray.spawn(p - ng * eps, dir);
                         color +=
                             f * trace(scene, &r, depth + 1, weight * f.max_element(), beyond, st);
                     }
@@ -565,7 +582,7 @@ fn shade(
                     // Total internal reflection: what would have gone
                     // through stays on this side, all of it.
                     st.refracted += 1;
-                    let r = Ray::new(above, reflect(d, ns));
+                    let r = ray.spawn(above, reflect(d, ns));
                     color += TIR * trace(scene, &r, depth + 1, weight * TIR, media, st);
                 }
             }

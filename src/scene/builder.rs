@@ -126,6 +126,9 @@ pub struct Builder {
     pub mesh_vertices: Vec<DVec3>,
     pub normals: Vec<Vec3>,
     pub prims: Vec<Prim>,
+    /// Where `motion` changed: from primitive `.0` on, primitives move at
+    /// velocity `.1` (scene units per unit of time); none before the first.
+    pub motion: Vec<(u32, DVec3)>,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub ambient: Vec3,
@@ -159,6 +162,7 @@ impl Default for Builder {
             mesh_vertices: Vec::new(),
             normals: Vec::new(),
             prims: Vec::new(),
+            motion: Vec::new(),
             materials: vec![Material::default()],
             lights: Vec::new(),
             ambient: Vec3::ZERO,
@@ -318,6 +322,35 @@ impl Builder {
         }
         self.focus = Some(d);
         Ok(())
+    }
+
+    /// `motion dx dy dz`: primitives created from now on move by this much
+    /// per unit of time (0 0 0 stops).
+    pub fn set_motion(&mut self, v: DVec3) -> Result<(), SceneError> {
+        let v = position(v)?;
+        let next = self.prims.len() as u32;
+        if self.motion.last().is_some_and(|&(first, _)| first == next) {
+            // Nothing was created at the last velocity.
+            self.motion.pop();
+        }
+        if self.velocity_from_here() != v {
+            crate::mem::room(&self.motion, 1)?;
+            self.motion.push((next, v));
+        }
+        Ok(())
+    }
+
+    /// The velocity of the next primitive.
+    fn velocity_from_here(&self) -> DVec3 {
+        self.motion.last().map_or(DVec3::ZERO, |m| m.1)
+    }
+
+    /// The velocity of primitive `i`.
+    pub fn velocity(&self, i: usize) -> DVec3 {
+        match self.motion.partition_point(|&(first, _)| first as usize <= i) {
+            0 => DVec3::ZERO,
+            k => self.motion[k - 1].1,
+        }
     }
 
     // -- Geometry -------------------------------------------------------------

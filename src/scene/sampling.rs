@@ -144,6 +144,9 @@ pub struct Sampling {
     pub tonemap: Tonemap,
     /// Adaptive sampling: (threshold, most samples per pixel).
     pub adaptive: Option<(f32, u32)>,
+    /// The shutter interval (`shutter t0 t1`): camera rays sample times in
+    /// it, where moving objects are seen.
+    pub shutter: [f32; 2],
 }
 
 impl Default for Sampling {
@@ -157,6 +160,7 @@ impl Default for Sampling {
             exposure: 0.0,
             tonemap: Tonemap::Clamp,
             adaptive: None,
+            shutter: [0.0, 0.0],
         }
     }
 }
@@ -194,6 +198,22 @@ impl Sampling {
         }
         self.adaptive = (threshold > 0.0).then_some((threshold as f32, max as u32));
         Ok(())
+    }
+
+    pub fn set_shutter(&mut self, t0: f64, t1: f64) -> Result<(), SceneError> {
+        let ok = |t: f64| t.is_finite() && t.abs() <= 1e9;
+        if !(ok(t0) && ok(t1) && t0 <= t1) {
+            return Err(SceneError::Invalid(format!(
+                "shutter must open before it closes, at finite times, got {t0} {t1}"
+            )));
+        }
+        self.shutter = [t0 as f32, t1 as f32];
+        Ok(())
+    }
+
+    /// Whether the shutter is open for a while (camera rays need a time).
+    pub fn has_shutter(&self) -> bool {
+        self.shutter[0] < self.shutter[1]
     }
 
     pub fn set_exposure(&mut self, ev: f64) -> Result<(), SceneError> {

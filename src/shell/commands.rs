@@ -384,6 +384,28 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         b.set_focus(a.f64(0)?).map_err(e)?;
         Ok(None)
     });
+    numeric(
+        interp,
+        &scene,
+        "shutter",
+        "t0 t1",
+        "the shutter interval camera rays sample",
+        move |b, a| {
+            b.sampling.set_shutter(a.f64(0)?, a.f64(1)?).map_err(e)?;
+            Ok(None)
+        },
+    );
+    numeric(
+        interp,
+        &scene,
+        "motion",
+        "dx dy dz",
+        "the velocity of the objects that follow, per unit of time",
+        move |b, a| {
+            b.set_motion(a.pos(0)?).map_err(e)?;
+            Ok(None)
+        },
+    );
     numeric(interp, &scene, "samples", "n", "camera rays per pixel, stratified", move |b, a| {
         b.sampling.set_samples(a.int(0)?).map_err(e)?;
         Ok(None)

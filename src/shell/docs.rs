@@ -64,6 +64,18 @@ pub const SCENE: &[Doc] = &[
         example: "camera_focus 6.2",
     },
     Doc {
+        name: "shutter",
+        meaning: "the shutter interval: each camera ray samples a time in [t0, t1] (stratified with the pixel's samples), and its reflections and shadow rays keep it; moving objects (`motion`) are seen where they are at that time. With `samples 1` and an open shutter, the one sample's time is random too",
+        default: "0 0",
+        example: "shutter 0 1",
+    },
+    Doc {
+        name: "motion",
+        meaning: "objects created after this (spheres, triangles, meshes) move by (dx, dy, dz) scene units per unit of time, from where they are given at time 0; `motion 0 0 0` stops. Lights stay still",
+        default: "0 0 0",
+        example: "motion 2 0 0",
+    },
+    Doc {
         name: "vertex",
         meaning: "add a vertex; returns its index (from 0)",
         default: "",

@@ -111,13 +111,15 @@ pub fn edges_converge_to_their_covered_fractions() {
 }
 
 /// The same bytes for 1 and 2 threads, progressive passes, and a crop
-/// (its pixels are the whole picture's), with every filter.
+/// (its pixels are the whole picture's), with every filter and a moving
+/// ball.
 pub fn sampled_pictures_do_not_depend_on_threads_passes_or_crops() {
     let dir = scratch("sampling-same");
     let scene = "camera_resolution 40 30; camera_from 0 0 5; camera_target 0 0 0\n\
                  point_light 1 1 1 3 4 5; ambient_light 0.1 0.1 0.1\n\
                  material 0.9 0.3 0.2 0.2 0.8 0.5 30 0 1; sphere 0 0 0 1.2\n\
                  material 0.3 0.9 0.5 0.2 0.8 0 1 0.5 1.5; sphere 1.2 0.8 1 0.5\n\
+                 motion 0.4 0 0; sphere -1.3 -0.6 1 0.4; shutter 0 1\n\
                  samples 9\n";
     for filter in ["box", "tent 1.2", "gaussian", "mitchell"] {
         let s = format!("{scene}filter {filter}; render a.ppm");
@@ -194,6 +196,9 @@ pub fn sampling_commands_refuse_bad_values() {
         ("filter tent x", "filter: radius: expected a finite number but got \"x\""),
         ("tonemap filmic", "bad tone map \"filmic\": must be clamp, reinhard or aces"),
         ("exposure 100", "exposure must be between -64 and 64 stops, got 100"),
+        ("shutter 1 0", "shutter must open before it closes, at finite times, got 1 0"),
+        ("motion 1 x 0", "motion: dy: expected number but got \"x\""),
+        ("motion 1 0 1e300", "motion: dz: number 1e+300 is too large"),
     ] {
         let r = raytrace().args(["-c", script]).output().unwrap();
         assert_eq!(r.status.code(), Some(1), "{script}");
@@ -379,5 +384,180 @@ pub fn area_and_sphere_lights_match_their_form_factors() {
         let got = img.rgb[(16 * 33 + 16) * 3] as f64 / 255.0;
         assert!((got - want).abs() <= 1.5 / 255.0, "{what}: {got} vs {want}");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Motion blur: a ball (or a square of two triangles) of half-width r
+/// moving at v across a shutter of length T leaves a streak 2r + v·T long;
+/// a point x on its path is covered for the part of the shutter when
+/// |x − c − v·t| < r. Each pixel of the middle row is that fraction
+/// averaged over the pixel (an ambient-lit white shape on black).
+pub fn motion_blur_streaks_by_velocity_times_shutter() {
+    let dir = scratch("sampling-motion");
+    // 201 pixels across 5 units at depth 100: 1/40.2 unit per pixel.
+    let (w, depth, half) = (201u32, 100.0f64, 2.5f64);
+    let angle = 2.0 * (half / depth).atan().to_degrees();
+    let (c0, r, v, t0, t1) = (-1.5f64, 0.5f64, 3.0f64, 0.25f64, 0.75f64);
+    let shapes = [
+        ("a sphere", format!("sphere {c0} 0 0 {r}")),
+        (
+            "a square",
+            format!(
+                "set a [vertex {} -5 0]; set b [vertex {} -5 0]; set c [vertex {} 5 0]; set d [vertex {} 5 0]\n\
+                 tri $a $b $c; tri $a $c $d",
+                c0 - r,
+                c0 + r,
+                c0 + r,
+                c0 - r
+            ),
+        ),
+    ];
+    // The covered fraction of the shutter at x, averaged over [xa, xb].
+    let covered = |xa: f64, xb: f64| {
+        let steps = 200;
+        (0..steps)
+            .map(|k| {
+                let x = xa + (xb - xa) * (k as f64 + 0.5) / steps as f64;
+                // c0 + v·t within (x − r, x + r).
+                let (lo, hi) = (((x - r - c0) / v).max(t0), ((x + r - c0) / v).min(t1));
+                (hi - lo).max(0.0) / (t1 - t0)
+            })
+            .sum::<f64>()
+            / steps as f64
+    };
+    for (what, shape) in shapes {
+        let script = format!(
+            "camera_resolution {w} 21; camera_angle {angle}; camera_from 0 0 {depth}; camera_target 0 0 0\n\
+             ambient_light 1 1 1; material 1 1 1 1 0 0 1 0 1\n\
+             motion {v} 0 0; {shape}; motion 0 0 0\n\
+             shutter {t0} {t1}; samples 256; render m.ppm"
+        );
+        let img = render(&dir, &[], &script);
+        let px = 2.0 * half / w as f64;
+        let (mut worst, mut first, mut last) = (0.0f64, None, 0);
+        for i in 0..w {
+            let got = img.rgb[((10 * w + i) * 3) as usize] as f64 / 255.0;
+            let xa = -half + i as f64 * px;
+            let want = covered(xa, xa + px);
+            worst = worst.max((got - want).abs());
+            if got > 0.0 {
+                first.get_or_insert(i);
+                last = i;
+            }
+        }
+        assert!(worst < 0.03, "{what}: a pixel is {worst} from its covered fraction");
+        // The streak: from c0 + v·t0 − r to c0 + v·t1 + r.
+        let streak = (last - first.unwrap() + 1) as f64 * px;
+        let want = 2.0 * r + v * (t1 - t0);
+        assert!((streak - want).abs() <= 2.0 * px, "{what}: streak {streak} vs {want}");
+        // The plateau where the shape covers a point for 2r/v of the time.
+        let mid = img.rgb[((10 * w + w / 2 - 10) * 3) as usize] as f64 / 255.0;
+        let plateau = 2.0 * r / (v * (t1 - t0));
+        assert!((mid - plateau).abs() < 0.02, "{what}: plateau {mid} vs {plateau}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// With the shutter closed at an instant, a moving object is exactly where
+/// its velocity puts it, shadow included: the picture of a still object
+/// placed there (up to the rounding of the moved ray's origin).
+pub fn moving_objects_are_where_the_shutter_says() {
+    let dir = scratch("sampling-moved");
+    let base = "camera_resolution 60 40; camera_from 0 3 6; camera_target 0 0.5 0\n\
+                point_light 1 1 1 2 5 3; ambient_light 0.1 0.1 0.1\n\
+                material 0.8 0.8 0.8 0.2 0.8 0 1 0 1\n\
+                tri [vertex -5 0 -5] [vertex -5 0 5] [vertex 5 0 5]\n\
+                tri [vertex -5 0 -5] [vertex 5 0 5] [vertex 5 0 -5]\n\
+                material 0.9 0.3 0.2 0.2 0.8 0.4 20 0 1\n";
+    let moving = format!(
+        "{base}motion 0.5 0.25 0; sphere -1 0.7 0 0.6; tri [vertex 0 1 0] [vertex 1 1 0] [vertex 0 2 -1]\n"
+    );
+    for (time, dx, dy) in [(0.0, 0.0, 0.0), (2.0, 1.0, 0.5)] {
+        let seen = render(&dir, &[], &format!("{moving}shutter {time} {time}; render a.ppm"));
+        let still = render(
+            &dir,
+            &[],
+            &format!(
+                "{base}sphere {} {} 0 0.6; tri [vertex {dx} {} 0] [vertex {} {} 0] [vertex {dx} {} -1]; render b.ppm",
+                -1.0 + dx,
+                0.7 + dy,
+                1.0 + dy,
+                1.0 + dx,
+                1.0 + dy,
+                2.0 + dy
+            ),
+        );
+        let differ = seen.rgb.iter().zip(&still.rgb).filter(|(a, b)| a.abs_diff(**b) > 2).count();
+        assert!(differ <= 3, "at time {time}: {differ} channels differ");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The penumbra of a straight edge under a square area light: a floor point
+/// at x sees the part of the light beyond the line through the edge, so the
+/// shadow is total for x < −a·h/(2(H − h)) and absent beyond +a·h/(2(H − h))
+/// (similar triangles: light of width a at height H, edge at height h), and
+/// in between it lets through the visible part of ∫ cos·cos/d² over the
+/// light. Checked pixel by pixel against the unoccluded floor.
+pub fn penumbrae_match_similar_triangles() {
+    let dir = scratch("sampling-penumbra");
+    let (a, big_h, h) = (1.0f64, 4.0f64, 2.0f64);
+    // The floor's z = 0 line across the middle row; x = 0 at the centre.
+    let (w, eye_y, eye_z, half) = (201u32, 1.0f64, 10.0f64, 2.0f64);
+    let depth = (eye_y * eye_y + eye_z * eye_z).sqrt();
+    let angle = 2.0 * (half / depth).atan().to_degrees();
+    let floor = format!(
+        "camera_resolution {w} 5; camera_angle {angle}; camera_from 0 {eye_y} {eye_z}; camera_target 0 0 0\n\
+         material 1 1 1 0 1 0 1 0 1\n\
+         tri [vertex -20 0 -20] [vertex -20 0 20] [vertex 20 0 20]\n\
+         tri [vertex -20 0 -20] [vertex 20 0 20] [vertex 20 0 -20]\n\
+         area_light 45 45 45  {} {big_h} {}  {a} 0 0  0 0 {a}  32\n",
+        -a / 2.0,
+        -a / 2.0
+    );
+    let edge = format!(
+        "material 0 0 0 0 0 0 1 0 1\n\
+         tri [vertex -20 {h} -20] [vertex 0 {h} 20] [vertex -20 {h} 20]\n\
+         tri [vertex -20 {h} -20] [vertex 0 {h} -20] [vertex 0 {h} 20]\n"
+    );
+    let open = render(&dir, &[], &format!("{floor}render o.ppm"));
+    let shaded = render(&dir, &[], &format!("{floor}{edge}render s.ppm"));
+    // The visible share of the light from (x, 0, 0): light points with
+    // x_l > s = x·(1 − H/h), weighted by cos·cos/d² = H²/d⁴.
+    let share = |x: f64| {
+        let s = x * (1.0 - big_h / h);
+        let n = 300;
+        let (mut seen, mut all) = (0.0, 0.0);
+        for i in 0..n {
+            let xl = -a / 2.0 + a * (i as f64 + 0.5) / n as f64;
+            for k in 0..n {
+                let zl = -a / 2.0 + a * (k as f64 + 0.5) / n as f64;
+                let d2 = (xl - x).powi(2) + big_h * big_h + zl * zl;
+                let g = 1.0 / (d2 * d2);
+                all += g;
+                if xl > s {
+                    seen += g;
+                }
+            }
+        }
+        seen / all
+    };
+    let px = 2.0 * half / w as f64;
+    let width = a * h / (big_h - h);
+    let mut worst = 0.0f64;
+    for i in 0..w {
+        let x = -half + (i as f64 + 0.5) * px;
+        let at = ((2 * w + i) * 3) as usize;
+        let (lit, got) = (open.rgb[at] as f64, shaded.rgb[at] as f64);
+        assert!(lit > 100.0, "the open floor is lit at {x}: {lit}");
+        if x < -width / 2.0 - px {
+            assert_eq!(got, 0.0, "full shadow at x = {x}");
+        } else if x > width / 2.0 + px {
+            assert!((got - lit).abs() <= 1.0, "no shadow at x = {x}: {got} vs {lit}");
+        } else {
+            worst = worst.max((got / lit - share(x)).abs());
+        }
+    }
+    assert!(worst < 0.02, "the penumbra is {worst} off the visible share");
     let _ = std::fs::remove_dir_all(&dir);
 }
