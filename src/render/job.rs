@@ -71,6 +71,11 @@ impl Job<'_> {
     }
 }
 
+/// The sample passes of a progressive render of pixels with several
+/// samples: every pixel up to 1 camera ray, then up to 4, 16, 64... (each
+/// pass this many times the last), then on until every pixel is finished.
+pub const SAMPLE_PASS_GROWTH: u32 = 4;
+
 /// Whether pixel (x, y) is traced in the pass of stride `s` (`first`:
 /// the first pass's stride; later passes leave out what earlier ones did).
 /// The strides are powers of two, so this is all masks, no division.
@@ -78,6 +83,14 @@ fn in_pass(x: u32, y: u32, s: u32, first: u32) -> bool {
     debug_assert!(s.is_power_of_two());
     let (on, on2) = (s - 1, 2 * s - 1);
     (x | y) & on == 0 && (s == first || x & on2 != 0 || y & on2 != 0)
+}
+
+/// The tiles of a rectangle: their top-left corners, row by row.
+fn tiles(r: Rect) -> Vec<(u32, u32)> {
+    (r.y0..r.y1)
+        .step_by(TILE as usize)
+        .flat_map(|ty| (r.x0..r.x1).step_by(TILE as usize).map(move |tx| (tx, ty)))
+        .collect()
 }
 
 /// Runs `f` for every pixel of the job's rectangle, in parallel over tiles,
@@ -92,10 +105,7 @@ pub(crate) fn per_pixel<T: Send + Copy>(
     f: impl Fn(u32, u32, &mut RayStats) -> T + Sync,
 ) -> Option<RayStats> {
     let r = job.rect(width, height);
-    let tiles: Vec<(u32, u32)> = (r.y0..r.y1)
-        .step_by(TILE as usize)
-        .flat_map(|ty| (r.x0..r.x1).step_by(TILE as usize).map(move |tx| (tx, ty)))
-        .collect();
+    let tiles = tiles(r);
     let passes: &[u32] = if job.progressive { &PASSES } else { &[1] };
     let mut stats = RayStats::default();
     for &s in passes {
@@ -131,4 +141,130 @@ pub(crate) fn per_pixel<T: Send + Copy>(
         job.pass_done.store(s as u64, Ordering::Relaxed);
     }
     Some(stats)
+}
+
+/// A pixel of a sample-progressive render: its state between passes, and
+/// whether it is finished.
+struct Kept<S> {
+    state: S,
+    finished: bool,
+}
+
+/// `per_pixel` for pixels traced in several camera rays:
+/// `f(x, y, state, until, stats)` advances a pixel's `state` up to `until`
+/// camera rays in all (`u32::MAX`: to the end) and returns its value so far
+/// and whether it is finished. With `progressive`, every pixel's state is
+/// kept between passes of `SAMPLE_PASS_GROWTH`-fold more rays, and each
+/// pass writes every pixel's value so far: a coarse picture of the whole
+/// first, converging pass by pass. `expected` (camera rays per pixel)
+/// paces the progress count. Each pixel runs the same steps either way, so
+/// the final picture is the non-progressive one, to the bit. Without
+/// `progressive`, `per_pixel` with a fresh state per pixel.
+pub(crate) fn per_pixel_passes<S: Default + Send, T: Send + Copy>(
+    width: u32,
+    height: u32,
+    job: &Job,
+    out: &Mutex<Vec<T>>,
+    (progressive, expected): (bool, u32),
+    f: impl Fn(u32, u32, &mut S, u32, &mut RayStats) -> (T, bool) + Sync,
+) -> Option<RayStats> {
+    if !progressive {
+        return per_pixel(width, height, job, out, |x, y, st| {
+            f(x, y, &mut S::default(), u32::MAX, st).0
+        });
+    }
+    let r = job.rect(width, height);
+    let mut tiles: Vec<((u32, u32), Vec<Kept<S>>)> = tiles(r)
+        .into_iter()
+        .map(|(x0, y0)| {
+            let n = (TILE.min(r.x1 - x0) * TILE.min(r.y1 - y0)) as usize;
+            ((x0, y0), (0..n).map(|_| Kept { state: S::default(), finished: false }).collect())
+        })
+        .collect();
+    let mut stats = RayStats::default();
+    let (mut before, mut until) = (0u32, 1u32);
+    loop {
+        // Progress: this pass's share of the expected rays (telescoping,
+        // so a tile's shares add up to its pixels).
+        let share = |pixels: usize| {
+            let part = |k: u32| pixels as u64 * k.min(expected) as u64 / expected.max(1) as u64;
+            part(until) - part(before)
+        };
+        let (pass_stats, unfinished) = tiles
+            .par_iter_mut()
+            .map(|((x0, y0), kept)| {
+                let mut st = RayStats::default();
+                let (x0, y0) = (*x0, *y0);
+                let (x1, y1) = ((x0 + TILE).min(r.x1), (y0 + TILE).min(r.y1));
+                let mut done = Vec::with_capacity(kept.len());
+                let mut left = 0usize;
+                for y in y0..y1 {
+                    if job.cancelled() {
+                        return (st, 0);
+                    }
+                    for x in x0..x1 {
+                        let k = &mut kept[((y - y0) * (x1 - x0) + (x - x0)) as usize];
+                        if k.finished {
+                            continue;
+                        }
+                        let (v, finished) = f(x, y, &mut k.state, until, &mut st);
+                        k.finished = finished;
+                        left += !finished as usize;
+                        done.push((x, y, v));
+                    }
+                }
+                let mut o = out.lock().unwrap_or_else(|e| e.into_inner());
+                for &(x, y, v) in &done {
+                    o[((y - r.y0) * r.width() + (x - r.x0)) as usize] = v;
+                }
+                drop(o);
+                job.done.fetch_add(share(kept.len()), Ordering::Relaxed);
+                (st, left)
+            })
+            .reduce(|| (RayStats::default(), 0), |a, b| (a.0.add(b.0), a.1 + b.1));
+        stats = stats.add(pass_stats);
+        if job.cancelled() {
+            return None;
+        }
+        // Every pixel has a value from the first pass on.
+        job.pass_done.store(1, Ordering::Relaxed);
+        if unfinished == 0 {
+            return Some(stats);
+        }
+        (before, until) = (until, until.saturating_mul(SAMPLE_PASS_GROWTH));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Progressive sample passes: every pixel gets its first ray before any
+    /// gets a second pass, then 4, 16... rays in all, until each says it is
+    /// finished (never asked again after); the values written are the last.
+    #[test]
+    fn sample_passes_advance_every_pixel_in_turn() {
+        let (w, h) = (37u32, 21u32);
+        let job = Job { progressive: true, ..Job::default() };
+        let out = Mutex::new(vec![0u32; (w * h) as usize]);
+        let calls = Mutex::new(Vec::new());
+        // Pixel x finishes at 16 rays, or at 4 for odd x.
+        let stats =
+            per_pixel_passes(w, h, &job, &out, (true, 16), |x, y, rays: &mut u32, until, _| {
+                let end = if x % 2 == 1 { 4 } else { 16 };
+                *rays = until.min(end);
+                calls.lock().unwrap().push((until, x, y));
+                (*rays, *rays == end)
+            });
+        assert!(stats.is_some());
+        let calls = calls.into_inner().unwrap();
+        let untils: Vec<u32> = calls.iter().map(|c| c.0).collect();
+        assert!(untils.windows(2).all(|p| p[0] <= p[1]), "passes in order");
+        let count = |u: u32| untils.iter().filter(|&&v| v == u).count() as u32;
+        assert_eq!([count(1), count(4), count(16), count(64)], [w * h, w * h, 19 * h, 0]);
+        let out = out.into_inner().unwrap();
+        assert!((0..w * h).all(|i| out[i as usize] == if i % w % 2 == 1 { 4 } else { 16 }));
+        assert_eq!(job.done.load(Ordering::Relaxed), (w * h) as u64);
+        assert_eq!(job.pass_done.load(Ordering::Relaxed), 1);
+    }
 }

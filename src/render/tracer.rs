@@ -22,7 +22,7 @@
 use glam::Vec3;
 use std::sync::Mutex;
 
-use super::job::{Job, per_pixel};
+use super::job::{Job, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
 use crate::geometry::{Ray, Shape, Triangle, intersect_brute};
 use crate::image::Image;
@@ -179,59 +179,105 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let out = job.canvas.or(own.as_ref()).expect("one of the two");
     let sampling = &scene.sampling;
     let table = FilterTable::new(sampling.filter);
-    let stats = per_pixel(cam.width, cam.height, job, out, |x, y, st| {
-        let [t0, t1] = sampling.shutter;
-        if sampling.samples <= 1
-            && !cam.has_lens()
-            && sampling.adaptive.is_none()
-            && !sampling.has_shutter()
-        {
+    let sampled = sampling.samples > 1
+        || cam.has_lens()
+        || sampling.adaptive.is_some()
+        || sampling.has_shutter();
+    let stats = if sampled {
+        // Sample passes when asked for, if the pixels' states fit.
+        let progressive = job.progressive
+            && crate::mem::reserve_n(r.pixels() as usize, std::mem::size_of::<Pixel>() + 8).is_ok();
+        let pace = (progressive, sampling.samples);
+        per_pixel_passes(
+            cam.width,
+            cam.height,
+            job,
+            out,
+            pace,
+            |x, y, p: &mut Pixel, until, st| p.advance(scene, &table, (x, y), until, st),
+        )?
+    } else {
+        per_pixel(cam.width, cam.height, job, out, |x, y, st| {
             // The pixel centre, as COS 426 traces it.
             st.start(sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64));
-            return trace(scene, &cam.ray(x, y).at_time(t0), 0, 1.0, Media::default(), st);
-        }
-        let key = sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64);
-        let mut acc = PixelSum::default();
-        // The first batch is `samples`; adaptive sampling adds batches (of
-        // at least 4) while the mean's standard error is above the
-        // threshold, up to its maximum.
-        let mut n = sampling.samples;
-        for batch in 0u64.. {
-            let key = if batch == 0 { key } else { sample::mix(key ^ batch) };
-            // Image points, lens points and times from three patterns,
-            // stratified each.
-            let (pattern, lens_pattern) = (key as u32, (key >> 32) as u32);
-            let time_pattern = sample::mix(key ^ TIME) as u32;
-            for s in 0..n {
-                let (u, v) = sample::cmj(s, n, pattern);
-                let ((dx, wx), (dy, wy)) = (table.sample(u), table.sample(v));
-                // The cap on rays is per camera ray.
-                st.start(sample::mix(key ^ (s as u64) << 32));
-                let (lu, lv) =
-                    if cam.has_lens() { sample::cmj(s, n, lens_pattern) } else { (0.5, 0.5) };
-                let time = if sampling.has_shutter() {
-                    t0 + (t1 - t0) * sample::cmj(s, n, time_pattern).0
-                } else {
-                    t0
-                };
-                let ray =
-                    cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv).at_time(time);
-                acc.add(trace(scene, &ray, 0, 1.0, Media::default(), st), wx * wy);
-            }
-            let Some((threshold, max)) = sampling.adaptive else { break };
-            n = sampling.samples.max(4);
-            if acc.count + n > max || acc.standard_error() <= threshold {
-                break;
-            }
-        }
-        acc.value()
-    })?;
+            let ray = cam.ray(x, y).at_time(sampling.shutter[0]);
+            trace(scene, &ray, 0, 1.0, Media::default(), st)
+        })?
+    };
     // The picture itself, not a copy of it (64 Mpixel are 768 MiB).
     let pixels = match own {
         Some(m) => m.into_inner().unwrap_or_else(|e| e.into_inner()),
         None => out.lock().unwrap_or_else(|e| e.into_inner()).clone(),
     };
     Some((Image { width: r.width(), height: r.height(), pixels }, stats))
+}
+
+/// A pixel traced in several camera rays, in batches: the first of
+/// `samples`, then (adaptive sampling) batches of at least 4 while the
+/// mean's standard error is above the threshold, up to its maximum. Kept
+/// between the passes of a progressive render; each batch is stratified on
+/// its own pattern.
+#[derive(Default)]
+struct Pixel {
+    acc: PixelSum,
+    /// The current batch, its size (0: not started) and its next sample.
+    batch: u64,
+    n: u32,
+    s: u32,
+}
+
+impl Pixel {
+    /// Traces camera rays until the pixel has `until` of them or is
+    /// finished; returns its value so far and whether it is finished.
+    fn advance(
+        &mut self,
+        scene: &Scene,
+        table: &FilterTable,
+        (x, y): (u32, u32),
+        until: u32,
+        st: &mut RayStats,
+    ) -> (Vec3, bool) {
+        let (cam, sampling) = (&scene.camera, &scene.sampling);
+        let [t0, t1] = sampling.shutter;
+        let first = sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64);
+        if self.n == 0 {
+            self.n = sampling.samples;
+        }
+        loop {
+            if self.acc.count >= until {
+                return (self.acc.value(), false);
+            }
+            let (s, n) = (self.s, self.n);
+            let key = if self.batch == 0 { first } else { sample::mix(first ^ self.batch) };
+            // Image points, lens points and times from three patterns,
+            // stratified each.
+            let (pattern, lens_pattern) = (key as u32, (key >> 32) as u32);
+            let (u, v) = sample::cmj(s, n, pattern);
+            let ((dx, wx), (dy, wy)) = (table.sample(u), table.sample(v));
+            // The cap on rays is per camera ray.
+            st.start(sample::mix(key ^ (s as u64) << 32));
+            let (lu, lv) =
+                if cam.has_lens() { sample::cmj(s, n, lens_pattern) } else { (0.5, 0.5) };
+            let time = if sampling.has_shutter() {
+                t0 + (t1 - t0) * sample::cmj(s, n, sample::mix(key ^ TIME) as u32).0
+            } else {
+                t0
+            };
+            let ray = cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv).at_time(time);
+            self.acc.add(trace(scene, &ray, 0, 1.0, Media::default(), st), wx * wy);
+            self.s += 1;
+            if self.s == n {
+                let Some((threshold, max)) = sampling.adaptive else {
+                    return (self.acc.value(), true);
+                };
+                let n = sampling.samples.max(4);
+                if self.acc.count + n > max || self.acc.standard_error() <= threshold {
+                    return (self.acc.value(), true);
+                }
+                (self.batch, self.s, self.n) = (self.batch + 1, 0, n);
+            }
+        }
+    }
 }
 
 /// A pixel's samples so far: the filter-weighted sum, and the plain sums

@@ -111,8 +111,8 @@ pub fn edges_converge_to_their_covered_fractions() {
 }
 
 /// The same bytes for 1 and 2 threads, progressive passes, and a crop
-/// (its pixels are the whole picture's), with every filter and a moving
-/// ball.
+/// (its pixels are the whole picture's), with every filter, adaptive
+/// sampling and a moving ball.
 pub fn sampled_pictures_do_not_depend_on_threads_passes_or_crops() {
     let dir = scratch("sampling-same");
     let scene = "camera_resolution 40 30; camera_from 0 0 5; camera_target 0 0 0\n\
@@ -121,7 +121,7 @@ pub fn sampled_pictures_do_not_depend_on_threads_passes_or_crops() {
                  material 0.3 0.9 0.5 0.2 0.8 0 1 0.5 1.5; sphere 1.2 0.8 1 0.5\n\
                  motion 0.4 0 0; sphere -1.3 -0.6 1 0.4; shutter 0 1\n\
                  samples 9\n";
-    for filter in ["box", "tent 1.2", "gaussian", "mitchell"] {
+    for filter in ["box", "tent 1.2", "gaussian", "mitchell", "tent; adaptive 0.01 40"] {
         let s = format!("{scene}filter {filter}; render a.ppm");
         let one = render(&dir, &["--threads", "1"], &s);
         let two = render(&dir, &["--threads", "2"], &s);
