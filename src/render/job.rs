@@ -174,7 +174,9 @@ pub(crate) fn per_pixel_passes<S: Default + Send, T: Send + Copy>(
         });
     }
     let r = job.rect(width, height);
-    let mut tiles: Vec<((u32, u32), Vec<Kept<S>>)> = tiles(r)
+    // Each tile's corner and its pixels' states.
+    type Tile<S> = ((u32, u32), Vec<Kept<S>>);
+    let mut tiles: Vec<Tile<S>> = tiles(r)
         .into_iter()
         .map(|(x0, y0)| {
             let n = (TILE.min(r.x1 - x0) * TILE.min(r.y1 - y0)) as usize;
