@@ -27,6 +27,8 @@ pub(super) struct Block {
 
 /// Set in `Rec::at` for a sphere.
 pub(super) const SPHERE: u32 = 1 << 31;
+/// Set in `Rec::at` for an object (whose index is `normals[0]`).
+pub(super) const OBJECT: u32 = 1 << 30;
 
 /// One primitive in leaf order: where its geometry is (block * 4 + lane,
 /// with `SPHERE` for spheres), its vertex normals and material, and its
@@ -73,6 +75,15 @@ impl Block {
                         rec.at |= SPHERE;
                         rec.material = *material;
                     }
+                    Shape::Object { index, bounds } => {
+                        for axis in 0..3 {
+                            b.v[axis][lane] = bounds.min[axis];
+                            b.v[3 + axis][lane] = bounds.max[axis];
+                        }
+                        rec.at |= OBJECT;
+                        rec.normals[0] = *index;
+                        rec.material = u32::MAX;
+                    }
                 }
             }
             blocks.push(b);
@@ -82,7 +93,15 @@ impl Block {
     /// The primitive in `lane`, as a shape.
     pub fn shape(&self, lane: usize, rec: &Rec) -> Shape {
         let v = |i: usize| self.v[i][lane];
-        if rec.at & SPHERE != 0 {
+        if rec.at & OBJECT != 0 {
+            Shape::Object {
+                index: rec.normals[0],
+                bounds: crate::geometry::Aabb {
+                    min: glam::Vec3A::new(v(0), v(1), v(2)),
+                    max: glam::Vec3A::new(v(3), v(4), v(5)),
+                },
+            }
+        } else if rec.at & SPHERE != 0 {
             Shape::Sphere {
                 center: Vec3::new(v(0), v(1), v(2)),
                 radius: v(3),

@@ -13,6 +13,7 @@ use rayon::prelude::*;
 
 use super::aabb::ROBUST;
 use super::blocks::{self, Block, Pre4, Rec};
+use super::object::{Local, Located, Object};
 use super::shapes::RayPre;
 use super::{Aabb, Hit, Ray, Shape};
 
@@ -61,7 +62,7 @@ struct Wide {
     /// Child i: an interior node's index, or a leaf's first block.
     child: [u32; 4],
     /// Leaf child i's triangle blocks, plus its sphere blocks shifted by
-    /// `SPHERE_SHIFT`; 0 for an interior node.
+    /// `SHIFT` and its object blocks by twice that; 0 for an interior node.
     count: [u32; 4],
 }
 
@@ -133,13 +134,24 @@ pub struct BvhStats {
 pub struct Bvh {
     nodes: Vec<Wide>,
     /// The leaves' geometry: each leaf's triangle blocks, then its sphere
-    /// blocks.
+    /// blocks, then its object blocks.
     blocks: Vec<Block>,
-    /// One record per primitive, in leaf order (the order of `Hit::prim`).
+    /// One record per primitive, in leaf order (the order of `Hit::prim`),
+    /// then the unbounded objects'.
     recs: Vec<Rec>,
+    /// What the object blocks point to.
+    objects: Vec<Object>,
+    /// The primitives (objects) with no bounds, tested by every ray.
+    unbounded: Vec<u32>,
     depth: usize,
     /// Triangles without area, left out.
     pub degenerate: usize,
+}
+
+impl std::fmt::Debug for Bvh {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Bvh({} primitives, {} objects)", self.recs.len(), self.objects.len())
+    }
 }
 
 /// A primitive during the build: its bounds in SIMD lanes, with its index
@@ -184,9 +196,11 @@ struct Entry {
     t: f32,
 }
 
-/// A leaf slot's `count`: its triangle blocks, and its sphere blocks
-/// shifted by this many bits.
-const SPHERE_SHIFT: u32 = 16;
+/// A leaf slot's `count`: its triangle blocks, its sphere blocks shifted
+/// by this many bits, and its object blocks by twice as many (a leaf has
+/// at most `MAX_LEAF` primitives).
+const SHIFT: u32 = 8;
+const MASK: u32 = (1 << SHIFT) - 1;
 
 impl Bvh {
     /// Builds over `shapes`.
@@ -198,18 +212,35 @@ impl Bvh {
     /// threads, twice per shape), so no unordered copy of them is kept.
     /// Triangles without area are left out (and counted in `degenerate`).
     pub fn build_from(n: usize, shape: impl Fn(usize) -> Shape + Sync) -> Bvh {
+        Bvh::build_with(n, shape, Vec::new())
+    }
+
+    /// `build_from` where some shapes are `Shape::Object`s, entries of
+    /// `objects`. Those with no bounds (planes) are tested by every ray.
+    pub fn build_with(
+        n: usize,
+        shape: impl Fn(usize) -> Shape + Sync,
+        objects: Vec<Object>,
+    ) -> Bvh {
         let mut prims: Vec<BuildPrim> = (0..n)
             .into_par_iter()
             .filter_map(|i| {
                 let s = shape(i);
-                if let Shape::Triangle(t) = s
-                    && !t.has_area()
-                {
-                    return None;
+                match s {
+                    Shape::Triangle(t) if !t.has_area() => return None,
+                    Shape::Object { bounds, .. } if bounds.is_empty() => return None,
+                    _ => {}
                 }
                 Some(BuildPrim::new(s.bounds(), i as u32))
             })
             .collect();
+        let unbounded: Vec<(u32, u32)> = (0..n)
+            .filter_map(|i| match shape(i) {
+                Shape::Object { index, bounds } if bounds.is_empty() => Some((i as u32, index)),
+                _ => None,
+            })
+            .collect();
+        let n = n - unbounded.len();
         let (n, degenerate) = (prims.len(), n - prims.len());
         let both = prims
             .par_chunks(4096)
@@ -228,8 +259,15 @@ impl Bvh {
             depth: 0,
         };
         w.run();
-        let Widen { nodes, blocks, recs, depth, .. } = w;
-        Bvh { nodes, blocks, recs, depth, degenerate }
+        let Widen { nodes, blocks, mut recs, depth, .. } = w;
+        let mut after = Vec::with_capacity(unbounded.len());
+        for (id, index) in unbounded {
+            after.push(recs.len() as u32);
+            let mut normals = [0; 3];
+            normals[0] = index;
+            recs.push(Rec { at: blocks::OBJECT, normals, material: u32::MAX, id });
+        }
+        Bvh { nodes, blocks, recs, objects, unbounded: after, depth, degenerate }
     }
 
     pub fn stats(&self) -> BvhStats {
@@ -255,8 +293,46 @@ impl Bvh {
     /// Primitive `prim` (as numbered by `Hit::prim`).
     pub fn shape(&self, prim: u32) -> Shape {
         let rec = &self.recs[prim as usize];
-        let at = (rec.at & !blocks::SPHERE) as usize;
+        if self.unbounded.contains(&prim) {
+            return Shape::Object { index: rec.normals[0], bounds: Aabb::EMPTY };
+        }
+        let at = (rec.at & !(blocks::SPHERE | blocks::OBJECT)) as usize;
         self.blocks[at / 4].shape(at % 4, rec)
+    }
+
+    /// The object of primitive `prim`, if it is one.
+    #[inline]
+    fn object(&self, prim: u32) -> Option<&Object> {
+        let rec = &self.recs[prim as usize];
+        (rec.at & blocks::OBJECT != 0).then(|| &self.objects[rec.normals[0] as usize])
+    }
+
+    /// The surface of `hit` (found by `intersect` for `ray`), resolved to
+    /// the primitive it is on, through any objects and instances.
+    pub fn locate(&self, ray: &Ray, hit: &Hit) -> Located {
+        let rec = &self.recs[hit.prim as usize];
+        if let Some(obj) = self.object(hit.prim) {
+            return obj.locate(ray, hit.t, hit.uv, hit.sub);
+        }
+        let local = match self.shape(hit.prim) {
+            Shape::Triangle(t) => Local::Triangle(t),
+            Shape::Sphere { center, radius, .. } => Local::Sphere { center, radius },
+            Shape::Object { .. } => unreachable!("objects are handled above"),
+        };
+        Located { local, material: rec.material, uv: hit.uv, to_local: None }
+    }
+
+    /// `locate` for a hit of which only the distance is known (one found
+    /// inside an instance): the object is asked again, around `t`.
+    pub(super) fn locate_again(&self, ray: &Ray, t: f32, prim: u32, uv: [f32; 2]) -> Located {
+        let Some(obj) = self.object(prim) else {
+            return self.locate(ray, &Hit { t, prim, uv, sub: 0 });
+        };
+        let band = t.abs() * 1e-6 + f32::MIN_POSITIVE;
+        match obj.intersect(ray, t - band, t + band) {
+            Some((t, uv, sub)) => obj.locate(ray, t, uv, sub),
+            None => obj.locate(ray, t, uv, 0),
+        }
     }
 
     /// The material of primitive `prim`.
@@ -278,9 +354,15 @@ impl Bvh {
         }
     }
 
-    /// The number of triangles (the rest are spheres).
+    /// The number of triangles (the rest are spheres and objects).
     pub fn triangles(&self) -> usize {
-        self.recs.iter().filter(|r| r.at & blocks::SPHERE == 0).count()
+        self.recs.iter().filter(|r| r.at & (blocks::SPHERE | blocks::OBJECT) == 0).count()
+    }
+
+    /// The number of objects, and of primitives inside them (instances
+    /// counted as often as they are placed).
+    pub fn objects(&self) -> usize {
+        self.objects.len()
     }
 
     /// Every primitive, numbered as `Hit::prim` numbers them.
@@ -288,7 +370,12 @@ impl Bvh {
         (0..self.recs.len() as u32).map(|i| self.shape(i)).collect()
     }
 
+    /// The bounds of everything in the tree; empty when it has nothing,
+    /// or something without bounds (a plane).
     pub fn bounds(&self) -> Aabb {
+        if !self.unbounded.is_empty() {
+            return Aabb::EMPTY;
+        }
         let Some(root) = self.nodes.first() else { return Aabb::EMPTY };
         (0..4)
             .filter(|&i| root.b[0][0][i] <= root.b[0][1][i])
@@ -334,15 +421,19 @@ impl Bvh {
                 *t_max = t_max.min(hit.t * (1.0 + TIE));
             }
         };
-        let steps = self.traverse(ray, t_min, &mut t_max, |tris, spheres, t_max| {
+        // Objects without bounds first: a near plane shortens the walk.
+        if !self.unbounded.is_empty() {
+            self.objects_hit(&self.unbounded, ray, t_min, &mut t_max, &mut consider);
+        }
+        let steps = self.traverse(ray, t_min, &mut t_max, |tris, spheres, objects, t_max| {
             for b in tris {
                 let (mut mask, t, [u, v, w]) = b.triangles(&pre, t_min, *t_max);
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
                     let det = u[l] + v[l] + w[l];
-                    let hit = Hit { t: t[l], prim: b.prim[l], uv: [v[l] / det, w[l] / det] };
-                    consider(hit, t_max);
+                    let uv = [v[l] / det, w[l] / det];
+                    consider(Hit { t: t[l], prim: b.prim[l], uv, sub: 0 }, t_max);
                 }
             }
             for b in spheres {
@@ -350,17 +441,59 @@ impl Bvh {
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
-                    consider(Hit { t: t[l], prim: b.prim[l], uv: [0.0; 2] }, t_max);
+                    consider(Hit { t: t[l], prim: b.prim[l], uv: [0.0; 2], sub: 0 }, t_max);
                 }
+            }
+            for b in objects {
+                self.objects_hit(&b.prim, ray, t_min, t_max, &mut consider);
             }
             false
         });
         (best, steps)
     }
 
-    /// What reaches the end of a shadow segment: the product of `pass(prim)`
-    /// over every surface crossed in `(t_min, t_max)` (zero for an opaque
-    /// one, which ends the search at once).
+    /// Tests the objects among `prims` (out of the hot path of triangles
+    /// and spheres), passing hits to `consider`.
+    #[inline(never)]
+    fn objects_hit(
+        &self,
+        prims: &[u32],
+        ray: &Ray,
+        t_min: f32,
+        t_max: &mut f32,
+        consider: &mut dyn FnMut(Hit, &mut f32),
+    ) {
+        for &prim in prims.iter().filter(|&&p| p != blocks::NONE) {
+            let obj = self.object(prim).expect("these primitives are objects");
+            if let Some((t, uv, sub)) = obj.intersect(ray, t_min, *t_max) {
+                consider(Hit { t, prim, uv, sub }, t_max);
+            }
+        }
+    }
+
+    /// What passes through the objects among `prims`.
+    #[inline(never)]
+    fn objects_through(
+        &self,
+        prims: &[u32],
+        ray: &Ray,
+        (t_min, t_max): (f32, f32),
+        pass: &mut dyn FnMut(u32) -> Vec3,
+    ) -> Vec3 {
+        let mut through = Vec3::ONE;
+        for &prim in prims.iter().filter(|&&p| p != blocks::NONE) {
+            let obj = self.object(prim).expect("these primitives are objects");
+            through *= obj.transmittance(ray, t_min, t_max, pass);
+            if through == Vec3::ZERO {
+                break;
+            }
+        }
+        through
+    }
+
+    /// What reaches the end of a shadow segment: the product of
+    /// `pass(material)` over every surface crossed in `(t_min, t_max)`
+    /// (zero for an opaque one, which ends the search at once).
     pub fn transmittance(
         &self,
         ray: &Ray,
@@ -369,15 +502,22 @@ impl Bvh {
         mut pass: impl FnMut(u32) -> Vec3,
     ) -> Vec3 {
         let mut through = Vec3::ONE;
+        if !self.unbounded.is_empty() {
+            through = self.objects_through(&self.unbounded, ray, (t_min, t_max), &mut pass);
+            if through == Vec3::ZERO {
+                return through;
+            }
+        }
         let mut t_end = t_max;
         let pre = Pre4::new(ray, &RayPre::new(ray.dir));
-        self.traverse(ray, t_min, &mut t_end, |tris, spheres, t_max| {
+        let material = |prim: u32| self.recs[prim as usize].material;
+        self.traverse(ray, t_min, &mut t_end, |tris, spheres, objects, t_max| {
             for b in tris {
                 let (mut mask, _, _) = b.triangles(&pre, t_min, *t_max);
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
-                    through *= pass(b.prim[l]);
+                    through *= pass(material(b.prim[l]));
                     if through == Vec3::ZERO {
                         return true;
                     }
@@ -391,12 +531,18 @@ impl Bvh {
                     mask &= mask - 1;
                     let mut from = t_min;
                     while let Some(t) = b.sphere(l, ray, from, *t_max) {
-                        through *= pass(b.prim[l]);
+                        through *= pass(material(b.prim[l]));
                         if through == Vec3::ZERO {
                             return true;
                         }
                         from = t;
                     }
+                }
+            }
+            for b in objects {
+                through *= self.objects_through(&b.prim, ray, (t_min, *t_max), &mut pass);
+                if through == Vec3::ZERO {
+                    return true;
                 }
             }
             false
@@ -415,7 +561,7 @@ impl Bvh {
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        leaf: impl FnMut(&[Block], &[Block], &mut f32) -> bool,
+        leaf: impl FnMut(&[Block], &[Block], &[Block], &mut f32) -> bool,
     ) -> u32 {
         // A non-finite ray is never walked: its slab tests would be NaN.
         if self.nodes.is_empty() || !(ray.origin.is_finite() && ray.dir.is_finite()) {
@@ -437,7 +583,7 @@ impl Bvh {
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        mut leaf: impl FnMut(&[Block], &[Block], &mut f32) -> bool,
+        mut leaf: impl FnMut(&[Block], &[Block], &[Block], &mut f32) -> bool,
     ) -> u32 {
         let slabs = Slabs::new(ray);
         let mut steps = 0;
@@ -446,12 +592,14 @@ impl Bvh {
             steps += 1;
             if current.count > 0 {
                 let first = current.child as usize;
-                let tris = (current.count & ((1 << SPHERE_SHIFT) - 1)) as usize;
-                let spheres = (current.count >> SPHERE_SHIFT) as usize;
-                steps += (tris + spheres) as u32;
-                let blocks = &self.blocks[first..first + tris + spheres];
-                let (tris, spheres) = blocks.split_at(tris);
-                if leaf(tris, spheres, t_max) {
+                let tris = (current.count & MASK) as usize;
+                let spheres = (current.count >> SHIFT & MASK) as usize;
+                let objects = (current.count >> (2 * SHIFT)) as usize;
+                steps += (tris + spheres + objects) as u32;
+                let blocks = &self.blocks[first..first + tris + spheres + objects];
+                let (tris, rest) = blocks.split_at(tris);
+                let (spheres, objects) = rest.split_at(spheres);
+                if leaf(tris, spheres, objects, t_max) {
                     return steps;
                 }
             } else {
@@ -569,15 +717,25 @@ impl Widen<'_> {
     fn leaf(&mut self, n: &Node) -> (u32, u32) {
         let (first, count) = (n.offset as usize, n.count as usize);
         let mine = &mut self.shapes[first..first + count];
-        // Stable: triangles first, then spheres.
-        mine.sort_by_key(|s| matches!(s.1, Shape::Sphere { .. }));
-        let tris = mine.iter().take_while(|s| matches!(s.1, Shape::Triangle(_))).count();
+        // Stable: triangles first, then spheres, then objects.
+        let kind = |s: &Shape| match s {
+            Shape::Triangle(_) => 0,
+            Shape::Sphere { .. } => 1,
+            Shape::Object { .. } => 2,
+        };
+        mine.sort_by_key(|s| kind(&s.1));
         let start = self.blocks.len() as u32;
-        Block::pack(&mine[..tris], first as u32, &mut self.blocks, &mut self.recs);
-        let tri_blocks = self.blocks.len() as u32 - start;
-        Block::pack(&mine[tris..], (first + tris) as u32, &mut self.blocks, &mut self.recs);
-        let sphere_blocks = self.blocks.len() as u32 - start - tri_blocks;
-        (start, tri_blocks | sphere_blocks << SPHERE_SHIFT)
+        let mut counts = [0u32; 3];
+        let mut from = 0;
+        for (k, c) in counts.iter_mut().enumerate() {
+            let n = mine[from..].iter().take_while(|s| kind(&s.1) == k).count();
+            let before = self.blocks.len();
+            let prims = &mine[from..from + n];
+            Block::pack(prims, (first + from) as u32, &mut self.blocks, &mut self.recs);
+            *c = (self.blocks.len() - before) as u32;
+            from += n;
+        }
+        (start, counts[0] | counts[1] << SHIFT | counts[2] << (2 * SHIFT))
     }
 
     fn node(&mut self, i: usize, level: usize) -> u32 {

@@ -5,13 +5,20 @@
 mod aabb;
 mod blocks;
 mod bvh;
+mod csg;
+mod object;
+mod poly;
 mod ray;
 mod shapes;
+mod solid;
 
 pub use aabb::Aabb;
 pub use bvh::{Bvh, BvhStats, TIE};
+pub use csg::{Csg, Leaf as CsgLeaf, MAX_LEAVES as CSG_MAX_LEAVES, Node as CsgNode, Op as CsgOp};
+pub use object::{Kind, Local, Located, Object, Place};
 pub use ray::Ray;
 pub use shapes::{
     Hit, RayPre, Shape, Triangle, intersect_brute, intersect_sphere, intersect_triangle,
     intersect_triangle_f64,
 };
+pub use solid::{Crossing, Crossings, Solid};

@@ -35,7 +35,17 @@ impl Triangle {
 #[derive(Clone, Copy, Debug)]
 pub enum Shape {
     Triangle(Triangle),
-    Sphere { center: Vec3, radius: f32, material: u32 },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+        material: u32,
+    },
+    /// Entry `index` of the tree's objects, with its bounds (empty: it
+    /// has none, as a plane, and is tested by every ray).
+    Object {
+        index: u32,
+        bounds: Aabb,
+    },
 }
 
 impl Shape {
@@ -46,6 +56,7 @@ impl Shape {
                 let r = Vec3::splat(*radius);
                 Aabb { min: (*center - r).into(), max: (*center + r).into() }
             }
+            Shape::Object { bounds, .. } => *bounds,
         }
     }
 
@@ -56,6 +67,7 @@ impl Shape {
             Shape::Sphere { center, radius, material } => {
                 Shape::Sphere { center: center + by, radius, material }
             }
+            o @ Shape::Object { .. } => o,
         }
     }
 
@@ -63,6 +75,7 @@ impl Shape {
         match self {
             Shape::Triangle(t) => t.material,
             Shape::Sphere { material, .. } => *material,
+            Shape::Object { .. } => u32::MAX,
         }
     }
 
@@ -79,17 +92,21 @@ impl Shape {
             Shape::Sphere { center, radius, .. } => {
                 intersect_sphere(ray, *center, *radius, t_min, t_max).map(|t| (t, [0.0, 0.0]))
             }
+            // Objects live in their tree's table: only the tree tests them.
+            Shape::Object { .. } => None,
         }
     }
 }
 
-/// A hit: distance, the primitive (index into the BVH's shapes) and the
-/// barycentric weights of vertices 1 and 2 for triangles.
+/// A hit: distance, the primitive (index into the BVH's shapes), the
+/// barycentric weights of vertices 1 and 2 for triangles, and for an
+/// object what it says of the hit (`Object::intersect`).
 #[derive(Clone, Copy, Debug)]
 pub struct Hit {
     pub t: f32,
     pub prim: u32,
     pub uv: [f32; 2],
+    pub sub: u32,
 }
 
 /// Per-ray constants of the watertight triangle test.
@@ -136,7 +153,7 @@ pub fn intersect_brute(shapes: &[Shape], ray: &Ray, t_min: f32, t_max: f32) -> O
             && best.is_none_or(|b| t < b.t * (1.0 - super::bvh::TIE))
         {
             t_max = t_max.min(t * (1.0 + super::bvh::TIE));
-            best = Some(Hit { t, prim: k as u32, uv });
+            best = Some(Hit { t, prim: k as u32, uv, sub: 0 });
         }
     }
     best

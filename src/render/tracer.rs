@@ -24,10 +24,10 @@ use std::sync::Mutex;
 
 use super::job::{Job, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
-use crate::geometry::{Ray, Shape, Triangle, intersect_brute};
+use crate::geometry::{Hit, Local, Located, Ray, Triangle, intersect_brute};
 use crate::image::Image;
 use crate::scene::Material;
-use crate::scene::{Found, Scene};
+use crate::scene::Scene;
 
 /// Mixed into a batch's key for its pattern of times.
 const TIME: u64 = 0x7469_6d65;
@@ -382,7 +382,7 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
         let ray = cam.ray(x, y).at_time(scene.sampling.shutter[0]);
         let (hit, steps) = scene.intersect(&ray);
         st.bvh_steps += steps as u64;
-        hit.map(|f| ray.at(f.hit.t)).unwrap_or(Vec3::NAN)
+        hit.map(|h| ray.at(h.t)).unwrap_or(Vec3::NAN)
     })
     .unwrap_or_default();
     let hits = hits.into_inner().unwrap_or_else(|e| e.into_inner());
@@ -456,7 +456,7 @@ pub fn trace(
     let (hit, steps) = scene.intersect(ray);
     st.bvh_steps += steps as u64;
     // Lights with a size are seen where nothing nearer is.
-    let nearest = hit.as_ref().map_or(f32::INFINITY, |f| f.hit.t);
+    let nearest = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
     let seen = scene
         .emitters
         .iter()
@@ -487,13 +487,34 @@ struct Surface {
     shadow_from: Vec3,
 }
 
-fn surface(scene: &Scene, shape: &Shape, p: Vec3, d: Vec3, uv: [f32; 2]) -> Surface {
-    let (ng_out, ns_out, vertex_normals) = match shape {
-        Shape::Sphere { center, .. } => {
+/// The surface at `p` (reached along `d`), from where `locate` found it:
+/// worked out in the primitive's own coordinates, then turned to the
+/// world's (normals by the inverse transpose; the side a ray arrives from
+/// is the same in both).
+fn surface(scene: &Scene, at: &Located, p: Vec3, d: Vec3) -> Surface {
+    let (p_l, d_l) = match at.to_local {
+        None => (p, d),
+        Some(m) => (m.transform_point3(p), m.transform_vector3(d)),
+    };
+    let local = surface_local(scene, at, p_l, d_l);
+    let Some(m) = at.to_local else { return local };
+    let turn = |n: Vec3| (m.matrix3.transpose() * glam::Vec3A::from(n)).normalize().into();
+    let shadow_from =
+        if local.shadow_from == p_l { p } else { m.inverse().transform_point3(local.shadow_from) };
+    Surface { ng: turn(local.ng), ns: turn(local.ns), front: local.front, shadow_from }
+}
+
+fn surface_local(scene: &Scene, at: &Located, p: Vec3, d: Vec3) -> Surface {
+    let (ng_out, ns_out, vertex_normals) = match &at.local {
+        Local::Sphere { center, .. } => {
             let n = (p - *center).normalize();
             (n, n, None)
         }
-        Shape::Triangle(t) => {
+        Local::Solid { normal } => {
+            let n = normal.try_normalize().unwrap_or(Vec3::Z);
+            (n, n, None)
+        }
+        Local::Triangle(t) => {
             let ng = t.cross().normalize();
             if t.normals[0] == Triangle::FLAT {
                 (ng, ng, None)
@@ -502,7 +523,7 @@ fn surface(scene: &Scene, shape: &Shape, p: Vec3, d: Vec3, uv: [f32; 2]) -> Surf
                 // The vertex normals say which side is outside, whichever
                 // way the triangle is wound.
                 let ng = if ng.dot(n[0] + n[1] + n[2]) < 0.0 { -ng } else { ng };
-                let [u, v] = uv;
+                let [u, v] = at.uv;
                 let ns = (n[0] * (1.0 - u - v) + n[1] * u + n[2] * v).try_normalize().unwrap_or(ng);
                 (ng, ns, Some((t.p, n, [1.0 - u - v, u, v])))
             }
@@ -532,19 +553,18 @@ fn terminator(p: Vec3, v: [Vec3; 3], n: [Vec3; 3], b: [f32; 3]) -> Vec3 {
 fn shade(
     scene: &Scene,
     ray: &Ray,
-    found: &Found,
+    hit: &Hit,
     depth: u32,
     weight: f32,
     media: Media,
     st: &mut RayStats,
 ) -> Vec3 {
-    let hit = &found.hit;
-    let shape = scene.shape(found, ray.time);
-    let material = shape.material();
+    let at = scene.locate(ray, hit);
+    let material = at.material;
     let m = &scene.materials[material as usize];
     let p = ray.at(hit.t);
     let d = ray.dir.normalize();
-    let Surface { ng, ns, front, shadow_from } = surface(scene, &shape, p, d, hit.uv);
+    let Surface { ng, ns, front, shadow_from } = surface(scene, &at, p, d);
     let eps = offset(p, ray.origin);
     let above = p + ng * eps;
     let view = -d;

@@ -3,11 +3,12 @@
 //! material (state that applies to the objects that follow, as in OpenGL).
 //! Every input is checked here, so a frozen `Scene` is always valid.
 
-use glam::{DVec3, Vec3};
+use glam::{DAffine3, DVec3, Vec3};
 
 use super::camera::Camera;
 use super::light::Light;
 use super::material::Material;
+use super::objects::{CsgFrame, CsgLeafDef, Group, ObjDef, Saved};
 use super::sampling::Sampling;
 use crate::geometry::{Shape, Triangle};
 
@@ -129,6 +130,18 @@ pub struct Builder {
     /// Where `motion` changed: from primitive `.0` on, primitives move at
     /// velocity `.1` (scene units per unit of time); none before the first.
     pub motion: Vec<(u32, DVec3)>,
+    /// Shapes that are not triangles or spheres, and instances.
+    pub objects: Vec<ObjDef>,
+    /// The current transform (what follows, to the world) and `push`'s
+    /// stack.
+    pub transform: DAffine3,
+    pub stack: Vec<DAffine3>,
+    /// The CSGs being made (innermost last) and their leaves so far.
+    pub csg: Vec<CsgFrame>,
+    pub csg_leaves: Vec<CsgLeafDef>,
+    /// Named groups, and what the groups being made set aside.
+    pub groups: Vec<Group>,
+    pub building: Vec<Saved>,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub ambient: Vec3,
@@ -163,6 +176,13 @@ impl Default for Builder {
             normals: Vec::new(),
             prims: Vec::new(),
             motion: Vec::new(),
+            objects: Vec::new(),
+            transform: DAffine3::IDENTITY,
+            stack: Vec::new(),
+            csg: Vec::new(),
+            csg_leaves: Vec::new(),
+            groups: Vec::new(),
+            building: Vec::new(),
             materials: vec![Material::default()],
             lights: Vec::new(),
             ambient: Vec3::ZERO,
@@ -221,7 +241,7 @@ impl Builder {
         Builder::default()
     }
 
-    fn material_index(&self) -> u32 {
+    pub(super) fn material_index(&self) -> u32 {
         (self.materials.len() - 1) as u32
     }
 
@@ -395,9 +415,22 @@ impl Builder {
     /// Triangles with no area are skipped when the scene is rendered.
     pub fn tri(&mut self, v: [i64; 3]) -> Result<(), SceneError> {
         let v = [self.vertex_index(v[0])?, self.vertex_index(v[1])?, self.vertex_index(v[2])?];
+        self.add_tri(v, None)
+    }
+
+    /// A triangle of the script's vertices (and normals), placed by the
+    /// current transform.
+    fn add_tri(&mut self, v: [u32; 3], n: Option<[u32; 3]>) -> Result<(), SceneError> {
+        if self.in_csg() {
+            return Err(SceneError::Invalid("csg takes closed solids only, not triangles".into()));
+        }
         let material = self.material_index();
+        let prim = match self.placed() {
+            None => Prim::Tri { v, n: n.unwrap_or([Triangle::FLAT; 3]), material },
+            Some(_) => self.placed_tri(v, n, material)?,
+        };
         crate::mem::room(&self.prims, 1)?;
-        self.prims.push(Prim::Tri { v, n: [Triangle::FLAT; 3], material });
+        self.prims.push(prim);
         Ok(())
     }
 
@@ -409,10 +442,7 @@ impl Builder {
             v[k] = self.vertex_index(vn[k].0)?;
             n[k] = self.normal_index(vn[k].1)?;
         }
-        let material = self.material_index();
-        crate::mem::room(&self.prims, 1)?;
-        self.prims.push(Prim::Tri { v, n, material });
-        Ok(())
+        self.add_tri(v, Some(n))
     }
 
     /// The primitive `i` as a renderable shape in single precision, placed
@@ -420,8 +450,13 @@ impl Builder {
     /// precision, so only the geometry's distance from the eye limits its
     /// precision, never its distance from the world's origin.
     pub fn shape(&self, i: usize, origin: DVec3) -> Shape {
+        self.shape_of(&self.prims[i], origin)
+    }
+
+    /// `shape` for any primitive (a group's too).
+    pub fn shape_of(&self, prim: &Prim, origin: DVec3) -> Shape {
         let rel = |p: DVec3| (p - origin).as_vec3();
-        match self.prims[i] {
+        match *prim {
             Prim::Tri { v, n, material } => {
                 let p = v.map(|k| rel(self.vertices[k as usize]));
                 Shape::Triangle(Triangle { p, normals: n, material })
@@ -464,6 +499,10 @@ impl Builder {
                 "sphere radius must be positive, got {radius}"
             )));
         }
+        let Some((center, radius)) = self.placed_sphere(center, radius)? else {
+            return Ok(());
+        };
+        let (center, radius) = (position(center)?, radius.min(f32::MAX as f64));
         crate::mem::room(&self.prims, 1)?;
         self.prims.push(Prim::Sphere { center, radius, material: self.material_index() });
         Ok(())
@@ -480,7 +519,14 @@ impl Builder {
         translate: DVec3,
         flat: bool,
     ) -> Result<usize, SceneError> {
-        let place = |p: Vec3| p.as_dvec3() * scale + translate;
+        if self.in_csg() {
+            return Err(SceneError::Invalid("csg takes closed solids only, not meshes".into()));
+        }
+        let xf = self.transform;
+        let place = |p: Vec3| xf.transform_point3(p.as_dvec3() * scale + translate);
+        // Normals by the inverse transpose (and a mirroring scale's sign).
+        let normal_xf = (xf.matrix3 * scale).inverse().transpose();
+        let turn = |n: Vec3| (normal_xf * n.as_dvec3()).as_vec3();
         let n_v = mesh.positions.len();
         if let Some(bad) = mesh.tris.iter().flatten().find(|&&i| i as usize >= n_v) {
             return Err(SceneError::IndexOutOfRange {
@@ -513,11 +559,8 @@ impl Builder {
                     size: mesh.normals.len(),
                 });
             }
-            // Mirror scaling flips normals; a uniform scale keeps directions.
-            let sign = scale.signum() as f32;
-            self.normals.extend(
-                mesh.normals.iter().map(|n| (*n * sign).try_normalize().unwrap_or(Vec3::Y)),
-            );
+            self.normals
+                .extend(mesh.normals.iter().map(|n| turn(*n).try_normalize().unwrap_or(Vec3::Y)));
             Some(nt.iter().map(|t| t.map(|i| base + i)).collect())
         } else {
             let mut acc = vec![DVec3::ZERO; n_v];

@@ -2,47 +2,23 @@
 //! the BVH over every primitive; rendering only reads it. Its coordinates
 //! are single precision with the eye at the origin.
 
+use std::sync::Arc;
 use std::time::Instant;
 
-use glam::{DVec3, Vec3};
+use glam::{Affine3A, DAffine3, DVec3, Vec3};
 
-use super::builder::{Builder, SceneError};
+use super::builder::{Builder, Prim, SceneError};
 use super::camera::Camera;
 use super::light::Light;
 use super::material::Material;
-use crate::geometry::{Bvh, Hit, Ray, Shape, TIE};
-
-/// Primitives that move together (`motion`): a tree built where they are
-/// at time 0, walked by rays moved back by `velocity · time` (a
-/// translated object hit by a ray is the object hit by the translated
-/// ray: the same distance, the same surface point).
-pub struct Moving {
-    pub velocity: Vec3,
-    pub bvh: Bvh,
-}
-
-impl Moving {
-    /// `ray` relative to where these primitives are at its time.
-    fn relative(&self, ray: &Ray) -> Ray {
-        Ray { origin: ray.origin - self.velocity * ray.time, ..*ray }
-    }
-}
-
-/// A hit in one of the scene's trees.
-#[derive(Clone, Copy, Debug)]
-pub struct Found {
-    pub hit: Hit,
-    /// 0: the still primitives (`Scene::bvh`); k: `Scene::moving[k - 1]`.
-    pub layer: u32,
-}
+use super::objects::{CsgTree, ObjDef, ObjKind};
+use crate::geometry::{Bvh, Csg, CsgLeaf, CsgNode, Hit, Kind, Located, Object, Place, Ray, Shape};
 
 pub struct Scene {
     pub camera: Camera,
-    /// The primitives that do not move (all of them, unless `motion` was
-    /// used).
+    /// Everything: the still triangles and spheres, and objects (analytic
+    /// shapes, CSG, instances of groups, primitives moving together).
     pub bvh: Bvh,
-    /// The moving ones, one tree per velocity.
-    pub moving: Vec<Moving>,
     pub materials: Vec<Material>,
     pub normals: Vec<Vec3>,
     pub lights: Vec<Light>,
@@ -63,13 +39,13 @@ impl Scene {
     pub fn freeze(b: &Builder) -> Result<Scene, SceneError> {
         let camera = b.camera()?;
         let start = Instant::now();
-        let (bvh, moving) = build(b);
-        let degenerate = bvh.degenerate + moving.iter().map(|m| m.bvh.degenerate).sum::<usize>();
+        let mut groups = vec![None; b.groups.len()];
+        let bvh = freeze_level(b, &b.prims, &b.motion, &b.objects, b.from, &mut groups);
+        let degenerate = bvh.degenerate;
         let build_seconds = start.elapsed().as_secs_f64();
         Ok(Scene {
             camera,
             bvh,
-            moving,
             materials: b.materials.clone(),
             normals: b.normals.clone(),
             lights: b.lights.iter().map(|l| l.relative_to(b.from)).collect(),
@@ -89,85 +65,24 @@ impl Scene {
     }
 
     /// The closest hit along `ray` (at its time) in `(0, ∞)`, and the
-    /// traversal steps taken. Between trees, the tie rule is the one within
-    /// a tree: of hits within `TIE`, the primitive added first wins.
+    /// traversal steps taken.
     #[inline(always)]
-    pub fn intersect(&self, ray: &Ray) -> (Option<Found>, u32) {
-        let (hit, steps) = self.bvh.intersect(ray, 0.0, f32::INFINITY);
-        let best = hit.map(|hit| Found { hit, layer: 0 });
-        if self.moving.is_empty() {
-            return (best, steps);
-        }
-        self.intersect_moving(ray, best, steps)
+    pub fn intersect(&self, ray: &Ray) -> (Option<Hit>, u32) {
+        self.bvh.intersect(ray, 0.0, f32::INFINITY)
     }
 
-    /// `intersect`'s search of the moving trees, given the still one's.
-    #[inline(never)]
-    fn intersect_moving(
-        &self,
-        ray: &Ray,
-        mut best: Option<Found>,
-        mut steps: u32,
-    ) -> (Option<Found>, u32) {
-        for (k, m) in self.moving.iter().enumerate() {
-            let t_max = best.map_or(f32::INFINITY, |b| b.hit.t * (1.0 + TIE));
-            let (hit, s) = m.bvh.intersect(&m.relative(ray), 0.0, t_max);
-            steps += s;
-            let Some(hit) = hit else { continue };
-            let better = match best {
-                None => true,
-                Some(b) => {
-                    hit.t < b.hit.t * (1.0 - TIE)
-                        || m.bvh.id(hit.prim) < self.tree(b.layer).id(b.hit.prim)
-                }
-            };
-            if better {
-                best = Some(Found { hit, layer: k as u32 + 1 });
-            }
-        }
-        (best, steps)
-    }
-
-    fn tree(&self, layer: u32) -> &Bvh {
-        match layer {
-            0 => &self.bvh,
-            k => &self.moving[k as usize - 1].bvh,
-        }
-    }
-
-    /// The primitive hit, where it is at `time`.
+    /// The surface `hit` is on.
     #[inline]
-    pub fn shape(&self, f: &Found, time: f32) -> Shape {
-        match f.layer {
-            0 => self.bvh.shape(f.hit.prim),
-            k => {
-                let m = &self.moving[k as usize - 1];
-                m.bvh.shape(f.hit.prim).moved(m.velocity * time)
-            }
-        }
+    pub fn locate(&self, ray: &Ray, hit: &Hit) -> Located {
+        self.bvh.locate(ray, hit)
     }
 
     /// What reaches the end of the shadow segment `(0, t_max)` along `ray`
     /// (at its time): the product of `pass(material)` over every surface
     /// crossed.
     #[inline(always)]
-    pub fn transmittance(&self, ray: &Ray, t_max: f32, mut pass: impl FnMut(u32) -> Vec3) -> Vec3 {
-        let mut through =
-            self.bvh.transmittance(ray, 0.0, t_max, |prim| pass(self.bvh.material(prim)));
-        for m in &self.moving {
-            if through == Vec3::ZERO {
-                break;
-            }
-            through *= m
-                .bvh
-                .transmittance(&m.relative(ray), 0.0, t_max, |prim| pass(m.bvh.material(prim)));
-        }
-        through
-    }
-
-    /// The still tree, then the moving ones.
-    pub fn trees(&self) -> impl Iterator<Item = &Bvh> {
-        std::iter::once(&self.bvh).chain(self.moving.iter().map(|m| &m.bvh))
+    pub fn transmittance(&self, ray: &Ray, t_max: f32, pass: impl FnMut(u32) -> Vec3) -> Vec3 {
+        self.bvh.transmittance(ray, 0.0, t_max, pass)
     }
 
     /// Warnings worth printing before a render.
@@ -185,39 +100,135 @@ impl Scene {
     }
 }
 
-/// The trees of a scene: one over the primitives that do not move, and
-/// one per velocity over those that do (built where they are at time 0).
-/// Each primitive keeps its number in the scene, for the tie rule.
-fn build(b: &Builder) -> (Bvh, Vec<Moving>) {
-    let n = b.prims.len();
-    if b.motion.is_empty() {
-        return (Bvh::build_from(n, |i| b.shape(i, b.from)), Vec::new());
-    }
-    // The primitives of each velocity, still ones first, in scene order.
-    let mut groups: Vec<(DVec3, Vec<u32>)> = vec![(DVec3::ZERO, Vec::new())];
-    let mut index =
-        std::collections::HashMap::from([(DVec3::ZERO.to_array().map(f64::to_bits), 0)]);
-    let runs = std::iter::once((0, DVec3::ZERO)).chain(b.motion.iter().copied());
-    let ends = b.motion.iter().map(|m| m.0).chain(std::iter::once(n as u32));
-    for ((first, v), end) in runs.zip(ends) {
-        let g = *index.entry(v.to_array().map(f64::to_bits)).or_insert_with(|| {
-            groups.push((v, Vec::new()));
-            groups.len() - 1
-        });
-        groups[g].1.extend(first..end);
-    }
-    let tree = |ids: &[u32]| {
-        let mut t = Bvh::build_from(ids.len(), |k| b.shape(ids[k] as usize, b.from));
-        t.renumber(ids);
-        t
+/// The tree of one level (the scene, relative to `origin`, or a group,
+/// in its own coordinates): its still triangles and spheres, one object
+/// per velocity of its moving ones, and its objects. Each primitive keeps
+/// its number in the level (primitives first, then objects) for the tie
+/// rule. Groups are frozen once each, when first placed.
+fn freeze_level(
+    b: &Builder,
+    prims: &[Prim],
+    motion: &[(u32, DVec3)],
+    defs: &[ObjDef],
+    origin: DVec3,
+    groups: &mut Vec<Option<Arc<Bvh>>>,
+) -> Bvh {
+    let n = prims.len();
+    let shutter = b.sampling.shutter;
+    let mut objects: Vec<Object> = Vec::new();
+    // Each object's number in the level.
+    let mut ids: Vec<u32> = Vec::new();
+    // The still primitives (all of them unless `motion` was used).
+    let still: Vec<u32> = if motion.is_empty() {
+        Vec::new()
+    } else {
+        let mut groups_by_v: Vec<(DVec3, Vec<u32>)> = vec![(DVec3::ZERO, Vec::new())];
+        let mut index =
+            std::collections::HashMap::from([(DVec3::ZERO.to_array().map(f64::to_bits), 0)]);
+        let runs = std::iter::once((0, DVec3::ZERO)).chain(motion.iter().copied());
+        let ends = motion.iter().map(|m| m.0).chain(std::iter::once(n as u32));
+        for ((first, v), end) in runs.zip(ends) {
+            let g = *index.entry(v.to_array().map(f64::to_bits)).or_insert_with(|| {
+                groups_by_v.push((v, Vec::new()));
+                groups_by_v.len() - 1
+            });
+            groups_by_v[g].1.extend(first..end);
+        }
+        for (v, members) in groups_by_v.iter().skip(1).filter(|g| !g.1.is_empty()) {
+            let mut t =
+                Bvh::build_from(members.len(), |k| b.shape_of(&prims[members[k] as usize], origin));
+            t.renumber(members);
+            ids.push(members[0]);
+            objects.push(Object {
+                place: Place { to_local: None, velocity: v.as_vec3() },
+                kind: Kind::Tree(Arc::new(t)),
+            });
+        }
+        std::mem::take(&mut groups_by_v[0].1)
     };
-    let still = tree(&groups[0].1);
-    let moving = groups[1..]
-        .iter()
-        .filter(|g| !g.1.is_empty())
-        .map(|(v, ids)| Moving { velocity: v.as_vec3(), bvh: tree(ids) })
-        .collect();
-    (still, moving)
+    for (k, d) in defs.iter().enumerate() {
+        let kind = match &d.kind {
+            ObjKind::Solid { solid, material } => {
+                Kind::Solid { solid: *solid, material: *material }
+            }
+            ObjKind::Csg { leaves, root } => {
+                let leaves = leaves
+                    .iter()
+                    .map(|l| CsgLeaf {
+                        place: Place {
+                            to_local: to_local(l.to_world, origin),
+                            velocity: Vec3::ZERO,
+                        },
+                        solid: l.solid,
+                        material: l.material,
+                    })
+                    .collect();
+                Kind::Csg(Box::new(Csg::new(leaves, csg_node(root))))
+            }
+            ObjKind::Instance(g) => {
+                let tree = group_tree(b, *g as usize, groups);
+                Kind::Tree(tree)
+            }
+        };
+        // CSG leaves carry their own placement (from the eye).
+        let placement =
+            if matches!(d.kind, ObjKind::Csg { .. }) { None } else { to_local(d.to_world, origin) };
+        ids.push((n + k) as u32);
+        objects.push(Object {
+            place: Place { to_local: placement, velocity: d.velocity.as_vec3() },
+            kind,
+        });
+    }
+    let n_still = if motion.is_empty() { n } else { still.len() };
+    let total = n_still + objects.len();
+    let bounds: Vec<_> = objects.iter().map(|o| o.bounds(shutter)).collect();
+    let shape = |i: usize| {
+        if i < n_still {
+            let p = if motion.is_empty() { i } else { still[i] as usize };
+            b.shape_of(&prims[p], origin)
+        } else {
+            Shape::Object { index: (i - n_still) as u32, bounds: bounds[i - n_still] }
+        }
+    };
+    let mut tree = Bvh::build_with(total, shape, objects);
+    if !motion.is_empty() || !ids.is_empty() {
+        let numbers: Vec<u32> = (0..n_still)
+            .map(|i| if motion.is_empty() { i as u32 } else { still[i] })
+            .chain(ids)
+            .collect();
+        tree.renumber(&numbers);
+    }
+    tree
+}
+
+/// World (or group) to local coordinates, with the eye at `origin`: the
+/// inverse of `to_world`, after moving the origin back (in double
+/// precision, then single).
+fn to_local(to_world: DAffine3, origin: DVec3) -> Option<Affine3A> {
+    let m = to_world.inverse() * DAffine3::from_translation(origin);
+    (m != DAffine3::IDENTITY).then(|| affine(m))
+}
+
+fn affine(m: DAffine3) -> Affine3A {
+    Affine3A::from_mat3_translation(m.matrix3.as_mat3(), m.translation.as_vec3())
+}
+
+fn csg_node(t: &CsgTree) -> CsgNode {
+    match t {
+        CsgTree::Leaf(i) => CsgNode::Leaf(*i),
+        CsgTree::Op(op, kids) => CsgNode::Op(*op, kids.iter().map(csg_node).collect()),
+    }
+}
+
+/// Group `g`'s tree, frozen the first time it is asked for.
+fn group_tree(b: &Builder, g: usize, groups: &mut Vec<Option<Arc<Bvh>>>) -> Arc<Bvh> {
+    if let Some(t) = &groups[g] {
+        return t.clone();
+    }
+    let def = &b.groups[g];
+    let t = Arc::new(freeze_level(b, &def.prims, &[], &def.objects, DVec3::ZERO, groups));
+    groups[g] = Some(t.clone());
+    t
 }
 
 #[cfg(test)]
@@ -244,12 +255,14 @@ mod tests {
         assert_eq!(b.motion.len(), 4);
         assert_eq!([0, 1, 2, 3, 4].map(|i| b.velocity(i).x), [0.0, 1.0, 0.0, 2.0, 1.0]);
         let s = Scene::freeze(&b).unwrap();
-        assert_eq!(s.bvh.len(), 2);
-        let speeds: Vec<(f32, usize)> =
-            s.moving.iter().map(|m| (m.velocity.x, m.bvh.len())).collect();
-        assert_eq!(speeds, [(1.0, 2), (2.0, 1)]);
-        // Scene numbers survive: the still tree holds primitives 0 and 2.
-        let mut ids: Vec<u32> = (0..2).map(|p| s.bvh.id(p)).collect();
+        // Two still spheres, and one object per velocity.
+        assert_eq!((s.bvh.len(), s.bvh.objects()), (4, 2));
+        // Scene numbers survive: the still spheres are primitives 0 and 2,
+        // the objects take their first primitive's (1 and 3).
+        let mut ids: Vec<u32> = (0..4)
+            .filter(|&p| matches!(s.bvh.shape(p), Shape::Sphere { .. }))
+            .map(|p| s.bvh.id(p))
+            .collect();
         ids.sort();
         assert_eq!(ids, [0, 2]);
     }

@@ -7,11 +7,12 @@ mod camera;
 mod frozen;
 mod light;
 mod material;
+mod objects;
 mod sampling;
 
 pub use builder::{Aim, Builder, MAX_PIXELS, MAX_TRACE_DEPTH, MeshData, SceneError};
 pub use camera::Camera;
-pub use frozen::{Found, Moving, Scene};
+pub use frozen::Scene;
 pub use light::{Light, spot_factor};
 pub use material::Material;
 pub use sampling::{Filter, FilterKind, Sampling, Tonemap};

@@ -17,14 +17,14 @@ use crate::scene::{Builder, Filter, FilterKind, Light, Material, Scene, SceneErr
 
 use super::stats::{Picture, RenderReport, ShellState};
 
-fn scene_err(e: SceneError) -> Exception {
+pub(super) fn scene_err(e: SceneError) -> Exception {
     Exception::error(e.to_string())
 }
 
 /// A numeric command's arguments, with the names its usage gives them, so
 /// every conversion error names the argument:
 /// `sphere: radius: expected integer but got "2.5"`.
-struct Args<'a> {
+pub(super) struct Args<'a> {
     nums: &'a [Num],
     name: &'a str,
     usage: &'a str,
@@ -37,7 +37,7 @@ impl Args<'_> {
     }
 
     /// Argument `i` as a finite double.
-    fn f64(&self, i: usize) -> Result<f64, Exception> {
+    pub(super) fn f64(&self, i: usize) -> Result<f64, Exception> {
         let x = self.nums[i].to_f64();
         if !x.is_finite() {
             return Err(
@@ -51,23 +51,23 @@ impl Args<'_> {
     }
 
     /// Argument `i` as a finite single.
-    fn f32(&self, i: usize) -> Result<f32, Exception> {
+    pub(super) fn f32(&self, i: usize) -> Result<f32, Exception> {
         Ok(self.f64(i)? as f32)
     }
 
     /// Arguments `i..i+3` as a position (double precision).
-    fn pos(&self, i: usize) -> Result<DVec3, Exception> {
+    pub(super) fn pos(&self, i: usize) -> Result<DVec3, Exception> {
         Ok(DVec3::new(self.f64(i)?, self.f64(i + 1)?, self.f64(i + 2)?))
     }
 
     /// Arguments `i..i+3` as a direction or colour.
-    fn vec3(&self, i: usize) -> Result<Vec3, Exception> {
+    pub(super) fn vec3(&self, i: usize) -> Result<Vec3, Exception> {
         Ok(Vec3::new(self.f32(i)?, self.f32(i + 1)?, self.f32(i + 2)?))
     }
 
     /// Argument `i` as an integer: any number syntax with an integral
     /// value (`5`, `5.0`, `1e3`), as C `printf` and converters write them.
-    fn int(&self, i: usize) -> Result<i64, Exception> {
+    pub(super) fn int(&self, i: usize) -> Result<i64, Exception> {
         match self.nums[i] {
             Num::Int(n) => Ok(n),
             Num::Double(d) if d.fract() == 0.0 && d.abs() < 9.0e18 => Ok(d as i64),
@@ -78,10 +78,10 @@ impl Args<'_> {
     }
 }
 
-type Shared = Rc<RefCell<Builder>>;
+pub(super) type Shared = Rc<RefCell<Builder>>;
 
 /// Registers a numeric scene command that changes the builder.
-fn numeric(
+pub(super) fn numeric(
     interp: &mut Interp,
     scene: &Shared,
     name: &str,
@@ -100,7 +100,7 @@ fn numeric(
 }
 
 /// A word naming one of a closed set (`names` lists them for the message).
-fn choice<T>(
+pub(super) fn choice<T>(
     v: &Value,
     what: &str,
     parse: fn(&str) -> Option<T>,
@@ -111,7 +111,7 @@ fn choice<T>(
 }
 
 /// A word that must be a finite number (`what` names it in the message).
-fn finite_arg(v: &Value, what: &str) -> Result<f64, Exception> {
+pub(super) fn finite_arg(v: &Value, what: &str) -> Result<f64, Exception> {
     match v.as_num().map(|n| n.to_f64()) {
         Some(x) if x.is_finite() => Ok(x),
         _ => Err(Exception::error(format!(
@@ -123,7 +123,7 @@ fn finite_arg(v: &Value, what: &str) -> Result<f64, Exception> {
 
 /// `numeric` for a command whose last `optional` numbers may be left out
 /// (`usage` writes them as `?n?`): `f` sees how many were given.
-fn numeric_opt(
+pub(super) fn numeric_opt(
     interp: &mut Interp,
     scene: &Shared,
     name: &str,
@@ -158,6 +158,7 @@ fn numeric_opt(
 
 /// Registers the scene commands, sharing one builder and the shell state.
 pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState>>) {
+    super::structure::register(interp, &scene);
     let e = scene_err;
     numeric(interp, &scene, "camera_from", "x y z", "where the camera is", move |b, a| {
         b.camera_from(a.pos(0)?).map_err(e)?;

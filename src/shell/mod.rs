@@ -35,6 +35,7 @@ pub mod obj;
 mod preview;
 pub mod repl;
 mod stats;
+mod structure;
 mod term;
 
 use std::cell::RefCell;

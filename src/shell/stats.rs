@@ -4,7 +4,6 @@
 use std::time::Instant;
 
 use super::feedback::{Feedback, ProgressMode};
-use crate::geometry::BvhStats;
 use crate::render::RayStats;
 use crate::scene::Scene;
 
@@ -79,21 +78,14 @@ impl RenderReport {
         render_seconds: f64,
         rays: RayStats,
     ) -> RenderReport {
-        // Summed over the still tree and the moving ones.
-        let st =
-            scene.trees().map(|t| t.stats()).fold(Default::default(), |a: BvhStats, s| BvhStats {
-                nodes: a.nodes + s.nodes,
-                leaves: a.leaves + s.leaves,
-                depth: a.depth.max(s.depth),
-                bytes: a.bytes + s.bytes,
-            });
+        let st = scene.bvh.stats();
         RenderReport {
             parse_seconds,
             build_seconds: scene.build_seconds,
             nodes: st.nodes,
             depth: st.depth,
-            primitives: scene.trees().map(|t| t.len()).sum(),
-            triangles: scene.trees().map(|t| t.triangles()).sum(),
+            primitives: scene.bvh.len(),
+            triangles: scene.bvh.triangles(),
             geometry_bytes: st.bytes + scene.normals.len() * 12,
             render_seconds,
             width: scene.camera.width,

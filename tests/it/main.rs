@@ -15,6 +15,7 @@ mod pov;
 mod readme;
 mod render;
 mod sampling;
+mod shapes;
 mod tidy;
 mod util;
 
@@ -70,6 +71,11 @@ fn main() {
         sampling::motion_blur_streaks_by_velocity_times_shutter,
         sampling::moving_objects_are_where_the_shutter_says,
         sampling::penumbrae_match_similar_triangles,
+        shapes::transformed_objects_match_objects_built_in_place,
+        shapes::ellipsoids_shade_by_their_gradient,
+        shapes::instances_render_as_copies,
+        shapes::csg_follows_the_boolean_formula,
+        shapes::bad_structure_is_a_located_error,
         bad::the_corpus_is_big_enough,
         bad::every_bad_input_exits_with_a_located_message,
         bad::the_repl_survives_every_bad_input,

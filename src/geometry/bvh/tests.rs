@@ -64,6 +64,7 @@ fn every_primitive_is_reachable() {
         // or something in front of it, never nothing.
         let c = Vec3::from(s.bounds().centroid());
         let target = match s {
+            Shape::Object { .. } => unreachable!(),
             Shape::Triangle(t) => (t.p[0] + t.p[1] + t.p[2]) / 3.0,
             Shape::Sphere { center, .. } => *center,
         };

@@ -1,0 +1,217 @@
+//! Objects: what a BVH holds besides its triangles and spheres, each a
+//! leaf of its own kind. An object has a place (a transform from its
+//! parent's coordinates into its own, and a velocity) and a kind: an
+//! analytic solid, a whole tree of its own (an instance of a group, or
+//! primitives moving together), or a CSG of solids. Rays go into the
+//! object's coordinates (the same `t`: the direction is transformed, not
+//! made unit), normals come out by the inverse transpose.
+
+use std::sync::Arc;
+
+use glam::{Affine3A, Vec3};
+
+use super::csg::Csg;
+use super::solid::Solid;
+use super::{Aabb, Bvh, Ray, Triangle};
+
+/// Where an object is in its parent's coordinates at time t: moved by
+/// `velocity`·t, then placed by the inverse of `to_local`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Place {
+    /// Parent to local coordinates; `None`: the same.
+    pub to_local: Option<Affine3A>,
+    pub velocity: Vec3,
+}
+
+impl Place {
+    pub const IDENTITY: Place = Place { to_local: None, velocity: Vec3::ZERO };
+
+    /// Parent to local coordinates at `time` (`None`: the identity).
+    #[inline]
+    pub fn at(&self, time: f32) -> Option<Affine3A> {
+        let shift = self.velocity * time;
+        match (self.to_local, shift == Vec3::ZERO) {
+            (None, true) => None,
+            (None, false) => Some(Affine3A::from_translation(-shift)),
+            (Some(m), true) => Some(m),
+            (Some(m), false) => Some(m * Affine3A::from_translation(-shift)),
+        }
+    }
+
+    /// The ray in local coordinates.
+    #[inline]
+    pub fn local(&self, ray: &Ray) -> Ray {
+        match self.at(ray.time) {
+            None => *ray,
+            Some(m) => Ray {
+                origin: m.transform_point3(ray.origin),
+                dir: m.transform_vector3(ray.dir),
+                time: ray.time,
+            },
+        }
+    }
+
+    /// The parent-space bounds of local `b` over the shutter `[t0, t1]`.
+    pub fn bounds(&self, b: Aabb, [t0, t1]: [f32; 2]) -> Aabb {
+        if b.is_empty() {
+            return b;
+        }
+        let placed = match self.to_local {
+            None => b,
+            Some(m) => {
+                let to_parent = m.inverse();
+                (0..8).fold(Aabb::EMPTY, |acc, k| {
+                    let c = Vec3::new(
+                        if k & 1 == 0 { b.min.x } else { b.max.x },
+                        if k & 2 == 0 { b.min.y } else { b.max.y },
+                        if k & 4 == 0 { b.min.z } else { b.max.z },
+                    );
+                    acc.grow(to_parent.transform_point3(c))
+                })
+            }
+        };
+        let at = |t: f32| {
+            let s = self.velocity * t;
+            let s = glam::Vec3A::from(s);
+            Aabb { min: placed.min + s, max: placed.max + s }
+        };
+        at(t0).union(at(t1))
+    }
+}
+
+/// What an object is.
+#[derive(Debug)]
+pub enum Kind {
+    /// An analytic solid of one material.
+    Solid { solid: Solid, material: u32 },
+    /// A tree of its own: an instance of a group, or primitives that move
+    /// together.
+    Tree(Arc<Bvh>),
+    /// Constructive solid geometry.
+    Csg(Box<Csg>),
+}
+
+#[derive(Debug)]
+pub struct Object {
+    pub place: Place,
+    pub kind: Kind,
+}
+
+/// A hit's surface, resolved down to a primitive in its own coordinates:
+/// what shading needs, whatever the nesting.
+#[derive(Clone, Copy, Debug)]
+pub struct Located {
+    pub local: Local,
+    pub material: u32,
+    /// Barycentric weights of vertices 1 and 2, for triangles.
+    pub uv: [f32; 2],
+    /// World to the primitive's coordinates at the ray's time (composed
+    /// over every level); `None`: the same.
+    pub to_local: Option<Affine3A>,
+}
+
+/// The primitive a hit resolves to, in its own coordinates.
+#[derive(Clone, Copy, Debug)]
+pub enum Local {
+    Triangle(Triangle),
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
+    /// A solid's outward normal there (not unit length).
+    Solid {
+        normal: Vec3,
+    },
+}
+
+impl Located {
+    /// `self` as seen from one level up, through `place` at `time`.
+    fn within(mut self, place: &Place, time: f32) -> Located {
+        if let Some(m) = place.at(time) {
+            self.to_local = Some(match self.to_local {
+                None => m,
+                Some(inner) => inner * m,
+            });
+        }
+        self
+    }
+}
+
+impl Object {
+    /// Bounds in the parent's coordinates over the shutter (empty for
+    /// something infinite: a plane).
+    pub fn bounds(&self, shutter: [f32; 2]) -> Aabb {
+        let local = match &self.kind {
+            Kind::Solid { solid, .. } => solid.bounds(),
+            Kind::Tree(t) => t.bounds(),
+            Kind::Csg(c) => c.bounds(),
+        };
+        self.place.bounds(local, shutter)
+    }
+
+    /// The closest hit in `(t_min, t_max)`: its distance, the barycentric
+    /// weights or nothing, and `sub` (a solid's part, a tree's primitive,
+    /// a CSG's leaf and part) for `locate`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, [f32; 2], u32)> {
+        let local = self.place.local(ray);
+        match &self.kind {
+            Kind::Solid { solid, .. } => {
+                solid.crossings(&local).first_in(t_min, t_max).map(|c| (c.t, [0.0; 2], c.part))
+            }
+            Kind::Tree(t) => {
+                let (hit, _) = t.intersect(&local, t_min, t_max);
+                hit.map(|h| (h.t, h.uv, h.prim))
+            }
+            Kind::Csg(c) => c.intersect(&local, t_min, t_max).map(|(t, sub)| (t, [0.0; 2], sub)),
+        }
+    }
+
+    /// What passes through the object between `t_min` and `t_max`: the
+    /// product of `pass(material)` over the surfaces crossed.
+    pub fn transmittance(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        pass: &mut dyn FnMut(u32) -> Vec3,
+    ) -> Vec3 {
+        let local = self.place.local(ray);
+        match &self.kind {
+            Kind::Solid { solid, material } => {
+                let mut through = Vec3::ONE;
+                for c in solid.crossings(&local).as_slice() {
+                    if c.t > t_min && c.t < t_max {
+                        through *= pass(*material);
+                        if through == Vec3::ZERO {
+                            break;
+                        }
+                    }
+                }
+                through
+            }
+            Kind::Tree(t) => t.transmittance(&local, t_min, t_max, pass),
+            Kind::Csg(c) => c.transmittance(&local, t_min, t_max, pass),
+        }
+    }
+
+    /// The surface of a hit `intersect` found (`t`, `uv` and `sub` as it
+    /// gave them), resolved to its primitive.
+    pub fn locate(&self, ray: &Ray, t: f32, uv: [f32; 2], sub: u32) -> Located {
+        let local = self.place.local(ray);
+        let found = match &self.kind {
+            Kind::Solid { solid, material } => {
+                let p = local.at(t);
+                Located {
+                    local: Local::Solid { normal: solid.normal(p, sub) },
+                    material: *material,
+                    uv,
+                    to_local: None,
+                }
+            }
+            Kind::Tree(tree) => tree.locate_again(&local, t, sub, uv),
+            Kind::Csg(c) => c.locate(&local, t, sub),
+        };
+        found.within(&self.place, ray.time)
+    }
+}
