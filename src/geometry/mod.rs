@@ -3,6 +3,7 @@
 //! there is no global epsilon.
 
 mod aabb;
+mod blob;
 mod blocks;
 mod bvh;
 mod csg;
@@ -13,6 +14,7 @@ mod shapes;
 mod solid;
 
 pub use aabb::Aabb;
+pub use blob::{Blob, Component as BlobComponent};
 pub use bvh::{Bvh, BvhStats, TIE};
 pub use csg::{Csg, Leaf as CsgLeaf, MAX_LEAVES as CSG_MAX_LEAVES, Node as CsgNode, Op as CsgOp};
 pub use object::{Kind, Local, Located, Object, Place};

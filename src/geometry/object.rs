@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use glam::{Affine3A, Vec3};
 
+use super::blob::Blob;
 use super::csg::Csg;
 use super::solid::Solid;
 use super::{Aabb, Bvh, Ray, Triangle};
@@ -89,6 +90,8 @@ pub enum Kind {
     Tree(Arc<Bvh>),
     /// Constructive solid geometry.
     Csg(Box<Csg>),
+    /// Metaballs of one material.
+    Blob { blob: Box<Blob>, material: u32 },
 }
 
 #[derive(Debug)]
@@ -145,6 +148,7 @@ impl Object {
             Kind::Solid { solid, .. } => solid.bounds(),
             Kind::Tree(t) => t.bounds(),
             Kind::Csg(c) => c.bounds(),
+            Kind::Blob { blob, .. } => blob.bounds(),
         };
         self.place.bounds(local, shutter)
     }
@@ -164,6 +168,17 @@ impl Object {
                 hit.map(|h| (h.t, h.uv, h.prim))
             }
             Kind::Csg(c) => c.intersect(&local, t_min, t_max).map(|(t, sub)| (t, [0.0; 2], sub)),
+            Kind::Blob { blob, .. } => {
+                let mut found = None;
+                // The first crossing past t_min, if before t_max.
+                blob.crossings(&local, |t| {
+                    if t > t_min && t < t_max {
+                        found = Some((t, [0.0; 2], 0));
+                    }
+                    t > t_min
+                });
+                found
+            }
         }
     }
 
@@ -192,6 +207,16 @@ impl Object {
             }
             Kind::Tree(t) => t.transmittance(&local, t_min, t_max, pass),
             Kind::Csg(c) => c.transmittance(&local, t_min, t_max, pass),
+            Kind::Blob { blob, material } => {
+                let mut through = Vec3::ONE;
+                blob.crossings(&local, |t| {
+                    if t > t_min && t < t_max {
+                        through *= pass(*material);
+                    }
+                    t >= t_max || through == Vec3::ZERO
+                });
+                through
+            }
         }
     }
 
@@ -211,6 +236,12 @@ impl Object {
             }
             Kind::Tree(tree) => tree.locate_again(&local, t, sub, uv),
             Kind::Csg(c) => c.locate(&local, t, sub),
+            Kind::Blob { blob, material } => Located {
+                local: Local::Solid { normal: blob.normal(local.at(t)) },
+                material: *material,
+                uv,
+                to_local: None,
+            },
         };
         found.within(&self.place, ray.time)
     }

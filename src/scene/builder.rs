@@ -8,7 +8,7 @@ use glam::{DAffine3, DVec3, Vec3};
 use super::camera::Camera;
 use super::light::Light;
 use super::material::Material;
-use super::objects::{CsgFrame, CsgLeafDef, Group, ObjDef, Saved};
+use super::objects::{BlobFrame, CsgFrame, CsgLeafDef, Group, ObjDef, Saved};
 use super::sampling::Sampling;
 use crate::geometry::{Shape, Triangle};
 
@@ -142,6 +142,8 @@ pub struct Builder {
     /// Named groups, and what the groups being made set aside.
     pub groups: Vec<Group>,
     pub building: Vec<Saved>,
+    /// The blob being made.
+    pub blob: Option<BlobFrame>,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub ambient: Vec3,
@@ -183,6 +185,7 @@ impl Default for Builder {
             csg_leaves: Vec::new(),
             groups: Vec::new(),
             building: Vec::new(),
+            blob: None,
             materials: vec![Material::default()],
             lights: Vec::new(),
             ambient: Vec3::ZERO,

@@ -12,7 +12,7 @@ use super::camera::Camera;
 use super::light::Light;
 use super::material::Material;
 use super::objects::{CsgTree, ObjDef, ObjKind};
-use crate::geometry::{Bvh, Csg, CsgLeaf, CsgNode, Hit, Kind, Located, Object, Place, Ray, Shape};
+use crate::geometry::{Blob, Bvh, Csg, CsgLeaf, CsgNode, Hit, Kind, Located, Object, Place, Ray, Shape};
 
 pub struct Scene {
     pub camera: Camera,
@@ -169,6 +169,10 @@ fn freeze_level(
                 let tree = group_tree(b, *g as usize, groups);
                 Kind::Tree(tree)
             }
+            ObjKind::Blob { comps, threshold, material } => Kind::Blob {
+                blob: Box::new(Blob::new(comps.clone(), *threshold)),
+                material: *material,
+            },
         };
         // CSG leaves carry their own placement (from the eye).
         let placement =

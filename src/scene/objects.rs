@@ -11,7 +11,7 @@
 use glam::{DAffine3, DMat3, DVec3, Vec3};
 
 use super::builder::{Builder, Prim, SceneError};
-use crate::geometry::{CsgOp, Solid};
+use crate::geometry::{BlobComponent, CsgOp, Solid};
 
 /// The deepest `push` nesting, CSG nesting and group nesting accepted.
 pub const MAX_NESTING: usize = 1000;
@@ -38,6 +38,16 @@ pub enum ObjKind {
     },
     /// Group number `.0` (`Builder::groups`).
     Instance(u32),
+    Blob { comps: Vec<BlobComponent>, threshold: f32, material: u32 },
+}
+
+/// A blob being made: its threshold, the transform it was started under,
+/// and its components so far (in its own coordinates).
+#[derive(Clone, Debug)]
+pub struct BlobFrame {
+    threshold: f64,
+    to_world: DAffine3,
+    comps: Vec<BlobComponent>,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -346,6 +356,65 @@ impl Builder {
             }
         }
         Ok(())
+    }
+
+    // -- Blobs ------------------------------------------------------------
+
+    /// Starts a blob: `blob_sphere` adds components until `end_blob`.
+    pub fn begin_blob(&mut self, threshold: f64) -> Result<(), SceneError> {
+        if !(threshold > 0.0 && threshold.is_finite()) {
+            return Err(invalid(format!("a blob's threshold must be above 0, got {threshold}")));
+        }
+        if self.in_csg() {
+            return Err(invalid("blobs in csg are not supported yet".into()));
+        }
+        if self.blob.is_some() {
+            return Err(invalid("a blob cannot be made inside another".into()));
+        }
+        let to_world = self.placement(DAffine3::IDENTITY)?;
+        self.blob = Some(BlobFrame { threshold, to_world, comps: Vec::new() });
+        Ok(())
+    }
+
+    /// A component of the blob being made, placed by the transform current
+    /// now (relative to the blob's, which must be a similarity for it).
+    pub fn blob_sphere(&mut self, c: DVec3, r: f64, s: f64) -> Result<(), SceneError> {
+        let Some(frame) = &self.blob else {
+            return Err(invalid("blob_sphere belongs inside blob threshold {...}".into()));
+        };
+        if !(r > 0.0 && r.is_finite() && s.is_finite()) {
+            return Err(invalid(format!(
+                "blob_sphere needs a radius above 0 and a finite strength, got {r} and {s}"
+            )));
+        }
+        let rel = frame.to_world.inverse() * self.transform;
+        let k = similarity(&rel.matrix3).ok_or_else(|| {
+            invalid("blob_sphere under a non-uniform scale: scale the whole blob instead".into())
+        })?;
+        let center = rel.transform_point3(c);
+        crate::mem::room(&frame.comps, 1)?;
+        let comp = BlobComponent {
+            center: center.as_vec3(),
+            radius: (r * k) as f32,
+            strength: s as f32,
+        };
+        self.blob.as_mut().expect("checked above").comps.push(comp);
+        Ok(())
+    }
+
+    /// Ends the blob (`ok`: its script ran to the end; else it is dropped).
+    pub fn end_blob(&mut self, ok: bool) -> Result<(), SceneError> {
+        let Some(frame) = self.blob.take() else { return Ok(()) };
+        if !ok {
+            return Ok(());
+        }
+        if !frame.comps.iter().any(|c| c.strength > 0.0) {
+            return Err(invalid("a blob needs a blob_sphere of positive strength".into()));
+        }
+        let material = self.material_index();
+        let kind =
+            ObjKind::Blob { comps: frame.comps, threshold: frame.threshold as f32, material };
+        self.add_object(kind, frame.to_world)
     }
 
     // -- Groups and instances ---------------------------------------------

@@ -142,6 +142,18 @@ pub const SCENE: &[Doc] = &[
         example: "torus 1 0.25",
     },
     Doc {
+        name: "blob",
+        meaning: "metaballs (POV-Ray's blob): the script's `blob_sphere`s add a field strength·(1 − d²/radius²)² each within their radius; the surface is where the sum equals `threshold`. Found exactly along each ray (a quartic between the spheres' entries and exits), placed by the transform current at `blob`",
+        default: "",
+        example: "blob 0.5 { blob_sphere 0 0 0 1 1; blob_sphere 1 0 0 1 1 }",
+    },
+    Doc {
+        name: "blob_sphere",
+        meaning: "a component of the blob being made: centre, radius and strength (negative strength carves); placed by the transform current now, relative to the blob's",
+        default: "",
+        example: "blob_sphere 0 1 0 0.8 -0.5",
+    },
+    Doc {
         name: "translate",
         meaning: "post-multiplies the current transform by a translation (OpenGL's order: in `translate 1 0 0; rotate 0 90 0; sphere ...` the sphere is rotated, then moved); every object made afterwards takes the current transform",
         default: "the identity",

@@ -198,6 +198,30 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
         },
     );
 
+    // -- Blobs ------------------------------------------------------------
+    let s = scene.clone();
+    interp.register_host(
+        "blob",
+        "threshold script",
+        "metaballs: the surface where the blob_spheres' field equals the threshold",
+        move |interp, argv| {
+            check_args(argv, 3, 3, "threshold script")?;
+            let threshold = finite_arg(&argv[1], "blob: threshold")?;
+            around(interp, &s, &argv[2], |b| b.begin_blob(threshold), |b, ok| b.end_blob(ok))
+        },
+    );
+    numeric(
+        interp,
+        scene,
+        "blob_sphere",
+        "x y z radius strength",
+        "a component of the blob being made",
+        move |b, a| {
+            b.blob_sphere(a.pos(0)?, a.f64(3)?, a.f64(4)?).map_err(e)?;
+            Ok(None)
+        },
+    );
+
     // -- CSG, groups and instances ----------------------------------------
     let s = scene.clone();
     interp.register_host(
