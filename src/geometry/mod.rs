@@ -7,6 +7,7 @@ mod blob;
 mod blocks;
 mod bvh;
 mod csg;
+mod fractal;
 mod object;
 mod poly;
 mod ray;
@@ -17,6 +18,7 @@ pub use aabb::Aabb;
 pub use blob::{Blob, Component as BlobComponent};
 pub use bvh::{Bvh, BvhStats, TIE};
 pub use csg::{Csg, Leaf as CsgLeaf, MAX_LEAVES as CSG_MAX_LEAVES, Node as CsgNode, Op as CsgOp};
+pub use fractal::{Flake, MAX_DEPTH as FRACTAL_MAX_DEPTH, Menger};
 pub use object::{Kind, Local, Located, Object, Place};
 pub use ray::Ray;
 pub use shapes::{

@@ -12,6 +12,7 @@ use glam::{Affine3A, Vec3};
 
 use super::blob::Blob;
 use super::csg::Csg;
+use super::fractal::{Flake, Menger};
 use super::solid::Solid;
 use super::{Aabb, Bvh, Ray, Triangle};
 
@@ -92,6 +93,10 @@ pub enum Kind {
     Csg(Box<Csg>),
     /// Metaballs of one material.
     Blob { blob: Box<Blob>, material: u32 },
+    /// A sphereflake, generated as rays reach it.
+    Flake { flake: Box<Flake>, material: u32 },
+    /// A Menger sponge, generated as rays reach it.
+    Menger { sponge: Box<Menger>, material: u32 },
 }
 
 #[derive(Debug)]
@@ -149,6 +154,8 @@ impl Object {
             Kind::Tree(t) => t.bounds(),
             Kind::Csg(c) => c.bounds(),
             Kind::Blob { blob, .. } => blob.bounds(),
+            Kind::Flake { flake, .. } => flake.bounds(),
+            Kind::Menger { sponge, .. } => sponge.bounds(),
         };
         self.place.bounds(local, shutter)
     }
@@ -178,6 +185,12 @@ impl Object {
                     t > t_min
                 });
                 found
+            }
+            Kind::Flake { flake, .. } => {
+                flake.intersect(&local, t_min, t_max).map(|h| (h.0, [0.0; 2], 0))
+            }
+            Kind::Menger { sponge, .. } => {
+                sponge.intersect(&local, t_min, t_max).map(|(t, part)| (t, [0.0; 2], part))
             }
         }
     }
@@ -217,6 +230,22 @@ impl Object {
                 });
                 through
             }
+            Kind::Flake { flake, material } => {
+                let mut through = Vec3::ONE;
+                flake.crossings(&local, t_min, t_max, &mut |_| {
+                    through *= pass(*material);
+                    through == Vec3::ZERO
+                });
+                through
+            }
+            Kind::Menger { sponge, material } => {
+                let mut through = Vec3::ONE;
+                sponge.crossings(&local, t_min, t_max, &mut |_| {
+                    through *= pass(*material);
+                    through == Vec3::ZERO
+                });
+                through
+            }
         }
     }
 
@@ -242,6 +271,28 @@ impl Object {
                 uv,
                 to_local: None,
             },
+            Kind::Flake { flake, material } => {
+                // The sphere hit: asked again around t.
+                let band = t.abs() * 1e-6 + f32::MIN_POSITIVE;
+                let center =
+                    flake.intersect(&local, t - band, t + band).map_or(Vec3::ZERO, |h| h.1);
+                let radius = (local.at(t) - center).length();
+                Located {
+                    local: Local::Sphere { center, radius },
+                    material: *material,
+                    uv,
+                    to_local: None,
+                }
+            }
+            Kind::Menger { material, .. } => {
+                let cube = Solid::Box { min: Vec3::NEG_ONE, max: Vec3::ONE };
+                Located {
+                    local: Local::Solid { normal: cube.normal(Vec3::ZERO, sub) },
+                    material: *material,
+                    uv,
+                    to_local: None,
+                }
+            }
         };
         found.within(&self.place, ray.time)
     }

@@ -12,7 +12,9 @@ use super::camera::Camera;
 use super::light::Light;
 use super::material::Material;
 use super::objects::{CsgTree, ObjDef, ObjKind};
-use crate::geometry::{Blob, Bvh, Csg, CsgLeaf, CsgNode, Hit, Kind, Located, Object, Place, Ray, Shape};
+use crate::geometry::{
+    Blob, Bvh, Csg, CsgLeaf, CsgNode, Flake, Hit, Kind, Located, Menger, Object, Place, Ray, Shape,
+};
 
 pub struct Scene {
     pub camera: Camera,
@@ -169,6 +171,14 @@ fn freeze_level(
                 let tree = group_tree(b, *g as usize, groups);
                 Kind::Tree(tree)
             }
+            ObjKind::Flake { center, radius, depth, material } => Kind::Flake {
+                flake: Box::new(Flake::new(*center, *radius, *depth)),
+                material: *material,
+            },
+            ObjKind::Menger { center, size, depth, material } => Kind::Menger {
+                sponge: Box::new(Menger::new(*center, *size, *depth)),
+                material: *material,
+            },
             ObjKind::Blob { comps, threshold, material } => Kind::Blob {
                 blob: Box::new(Blob::new(comps.clone(), *threshold)),
                 material: *material,

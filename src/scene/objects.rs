@@ -38,7 +38,23 @@ pub enum ObjKind {
     },
     /// Group number `.0` (`Builder::groups`).
     Instance(u32),
-    Blob { comps: Vec<BlobComponent>, threshold: f32, material: u32 },
+    Blob {
+        comps: Vec<BlobComponent>,
+        threshold: f32,
+        material: u32,
+    },
+    Flake {
+        center: Vec3,
+        radius: f32,
+        depth: u32,
+        material: u32,
+    },
+    Menger {
+        center: Vec3,
+        size: f32,
+        depth: u32,
+        material: u32,
+    },
 }
 
 /// A blob being made: its threshold, the transform it was started under,
@@ -358,6 +374,46 @@ impl Builder {
         Ok(())
     }
 
+    // -- Fractals ---------------------------------------------------------
+
+    fn fractal_depth(depth: i64) -> Result<u32, SceneError> {
+        let max = crate::geometry::FRACTAL_MAX_DEPTH;
+        if !(0..=max as i64).contains(&depth) {
+            return Err(invalid(format!("fractal depth must be between 0 and {max}, got {depth}")));
+        }
+        Ok(depth as u32)
+    }
+
+    /// Haines' sphereflake: a sphere and `depth` generations of children.
+    pub fn sphereflake(&mut self, c: DVec3, r: f64, depth: i64) -> Result<(), SceneError> {
+        let depth = Builder::fractal_depth(depth)?;
+        if !(r > 0.0 && r.is_finite()) {
+            return Err(invalid(format!("sphereflake radius must be above 0, got {r}")));
+        }
+        if self.in_csg() {
+            return Err(invalid("csg takes closed solids only, not sphereflakes".into()));
+        }
+        let to_world = self.placement(DAffine3::IDENTITY)?;
+        let material = self.material_index();
+        let kind = ObjKind::Flake { center: c.as_vec3(), radius: r as f32, depth, material };
+        self.add_object(kind, to_world)
+    }
+
+    /// A Menger sponge filling the cube of edge `size` centred at `c`.
+    pub fn menger(&mut self, c: DVec3, size: f64, depth: i64) -> Result<(), SceneError> {
+        let depth = Builder::fractal_depth(depth)?;
+        if !(size > 0.0 && size.is_finite()) {
+            return Err(invalid(format!("menger size must be above 0, got {size}")));
+        }
+        if self.in_csg() {
+            return Err(invalid("csg takes closed solids only, not sponges".into()));
+        }
+        let to_world = self.placement(DAffine3::IDENTITY)?;
+        let material = self.material_index();
+        let kind = ObjKind::Menger { center: c.as_vec3(), size: size as f32, depth, material };
+        self.add_object(kind, to_world)
+    }
+
     // -- Blobs ------------------------------------------------------------
 
     /// Starts a blob: `blob_sphere` adds components until `end_blob`.
@@ -393,11 +449,8 @@ impl Builder {
         })?;
         let center = rel.transform_point3(c);
         crate::mem::room(&frame.comps, 1)?;
-        let comp = BlobComponent {
-            center: center.as_vec3(),
-            radius: (r * k) as f32,
-            strength: s as f32,
-        };
+        let comp =
+            BlobComponent { center: center.as_vec3(), radius: (r * k) as f32, strength: s as f32 };
         self.blob.as_mut().expect("checked above").comps.push(comp);
         Ok(())
     }

@@ -142,6 +142,18 @@ pub const SCENE: &[Doc] = &[
         example: "torus 1 0.25",
     },
     Doc {
+        name: "sphereflake",
+        meaning: "Haines' sphereflake with the layout of the SPD `balls` generator: a sphere of radius r and `depth` generations of nine children a third its size (Σ 9^k spheres: 820 at depth 3, 48.4 million at 8), generated as rays reach them, so any depth (up to 10) takes the memory of one sphere",
+        default: "",
+        example: "sphereflake 0 0 0 0.5 4",
+    },
+    Doc {
+        name: "menger",
+        meaning: "a Menger sponge filling the cube of edge `size` centred at (x, y, z), `depth` levels deep (20^depth cubes, up to depth 10), generated as rays reach its cubes",
+        default: "",
+        example: "menger 0 0 0 3 4",
+    },
+    Doc {
         name: "blob",
         meaning: "metaballs (POV-Ray's blob): the script's `blob_sphere`s add a field strength·(1 − d²/radius²)² each within their radius; the surface is where the sum equals `threshold`. Found exactly along each ray (a quartic between the spheres' entries and exits), placed by the transform current at `blob`",
         default: "",

@@ -198,6 +198,30 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
         },
     );
 
+    // -- Fractals ---------------------------------------------------------
+    numeric(
+        interp,
+        scene,
+        "sphereflake",
+        "x y z r depth",
+        "Haines' sphereflake, generated as rays reach it",
+        move |b, a| {
+            b.sphereflake(a.pos(0)?, a.f64(3)?, a.int(4)?).map_err(e)?;
+            Ok(None)
+        },
+    );
+    numeric(
+        interp,
+        scene,
+        "menger",
+        "x y z size depth",
+        "a Menger sponge, generated as rays reach it",
+        move |b, a| {
+            b.menger(a.pos(0)?, a.f64(3)?, a.int(4)?).map_err(e)?;
+            Ok(None)
+        },
+    );
+
     // -- Blobs ------------------------------------------------------------
     let s = scene.clone();
     interp.register_host(
