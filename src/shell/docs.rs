@@ -142,6 +142,12 @@ pub const SCENE: &[Doc] = &[
         example: "torus 1 0.25",
     },
     Doc {
+        name: "nff",
+        meaning: "reads an NFF scene (Eric Haines' Neutral File Format, the SPD benchmarks' format: view, background, lights, fill materials, spheres, open cones and cylinders, polygons, patches with normals) and returns `spheres N cones N polygons N patches N lights N`. NFF has no ambient and its lights do not fall off: each becomes a point light of intensity colour·d², d its distance to the view's `at`",
+        default: "",
+        example: "nff balls-s3.nff",
+    },
+    Doc {
         name: "sphereflake",
         meaning: "Haines' sphereflake with the layout of the SPD `balls` generator: a sphere of radius r and `depth` generations of nine children a third its size (Σ 9^k spheres: 820 at depth 3, 48.4 million at 8), generated as rays reach them, so any depth (up to 10) takes the memory of one sphere",
         default: "",

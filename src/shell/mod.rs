@@ -31,6 +31,7 @@ mod commands;
 pub mod docs;
 mod feedback;
 mod frames;
+mod nff;
 pub mod obj;
 mod preview;
 pub mod repl;

@@ -198,6 +198,38 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
         },
     );
 
+    // -- Files --------------------------------------------------------------
+    let s = scene.clone();
+    interp.register_host(
+        "nff",
+        "fileName",
+        "read an NFF scene (Eric Haines' SPD format); returns what it held, by kind",
+        move |_, argv| {
+            check_args(argv, 2, 2, "fileName")?;
+            let path = argv[1].as_str().to_string();
+            let f = std::fs::File::open(&path).map_err(|e| {
+                Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
+            })?;
+            let mut b = s.borrow_mut();
+            b.generation += 1;
+            let c = super::nff::load(&mut b, &path, std::io::BufReader::new(f))
+                .map_err(Exception::error)?;
+            let n = |x: u64| Value::from_int(x as i64);
+            Ok(Value::from_list(vec![
+                Value::from("spheres"),
+                n(c.spheres),
+                Value::from("cones"),
+                n(c.cones),
+                Value::from("polygons"),
+                n(c.polygons),
+                Value::from("patches"),
+                n(c.patches),
+                Value::from("lights"),
+                n(c.lights),
+            ]))
+        },
+    );
+
     // -- Fractals ---------------------------------------------------------
     numeric(
         interp,

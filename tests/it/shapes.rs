@@ -228,3 +228,147 @@ pub fn bad_structure_is_a_located_error() {
         text(&r.stderr)
     );
 }
+
+/// The SPD scenes in `../shared/spd` load, with as many spheres, cones,
+/// polygons, patches and lights as their files hold, and render.
+pub fn spd_scenes_load_with_their_counts() {
+    let spd = crate::util::root().join("../shared/spd");
+    if !spd.is_dir() {
+        crate::util::skip("../shared/spd is absent (the SPD scenes come with the shared data)");
+    }
+    let dir = scratch("shapes-spd");
+    let mut files: Vec<_> =
+        std::fs::read_dir(&spd).unwrap().filter_map(|e| e.ok()).map(|e| e.path()).collect();
+    files.retain(|p| p.extension().is_some_and(|x| x == "nff"));
+    files.sort();
+    assert!(files.len() >= 10, "{files:?}");
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap();
+        // Items start lines (SPD writes one per line, or `c` over three).
+        let count =
+            |item: &str| text.lines().filter(|l| l.split_whitespace().next() == Some(item)).count();
+        let want = format!(
+            "spheres {} cones {} polygons {} patches {} lights {}",
+            count("s"),
+            count("c"),
+            count("p"),
+            count("pp"),
+            count("l")
+        );
+        let script =
+            format!("puts [nff {{{}}}]; camera_resolution 48 48; render out.ppm", f.display());
+        let r = raytrace().args(["-q", "-c", &script]).current_dir(&dir).output().unwrap();
+        assert_eq!(r.status.code(), Some(0), "{}: {}", f.display(), text_of(&r.stderr));
+        assert_eq!(text_of(&r.stdout).trim(), want, "{}", f.display());
+        let img = rayshell::image::read_rgb8(&std::fs::read(dir.join("out.ppm")).unwrap()).unwrap();
+        let distinct: std::collections::HashSet<&[u8]> = img.rgb.chunks(3).collect();
+        assert!(distinct.len() > 20, "{}: a flat picture", f.display());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn text_of(b: &[u8]) -> String {
+    text(b)
+}
+
+/// `sphereflake` against the same flake given sphere by sphere: here by a
+/// Tcl procedure written from the SPD `balls` generator's description
+/// (children 4r/3 from their parent's centre along nine directions turned
+/// to the parent's own), and, when `../shared/spd` is there, by the SPD
+/// file itself. The same picture.
+pub fn sphereflakes_match_their_spheres() {
+    let dir = scratch("shapes-flake");
+    let head = "camera_from 2.1 1.3 1.7; camera_target 0 0 0; camera_up 0 0 1; camera_resolution 96 96\n\
+                point_light 12 12 12 4 3 2; point_light 12 12 12 -3 1 5; ambient_light 0.1 0.1 0.1\n\
+                material 1 0.9 0.7 0.2 0.5 0.5 37 0 1\n";
+    let tcl_flake = r#"
+        proc rot {axis angle v} {
+            # Rodrigues: v turned by angle about the unit axis.
+            lassign $axis kx ky kz; lassign $v x y z
+            set c [expr {cos($angle)}]; set s [expr {sin($angle)}]
+            set dot [expr {$kx*$x + $ky*$y + $kz*$z}]
+            set cx [expr {$ky*$z - $kz*$y}]; set cy [expr {$kz*$x - $kx*$z}]; set cz [expr {$kx*$y - $ky*$x}]
+            list [expr {$x*$c + $cx*$s + $kx*$dot*(1-$c)}] [expr {$y*$c + $cy*$s + $ky*$dot*(1-$c)}] \
+                 [expr {$z*$c + $cz*$s + $kz*$dot*(1-$c)}]
+        }
+        set d [expr {1/sqrt(2)}]
+        set tip [list $d [expr {-$d}] 0]
+        set dirs {}
+        foreach set {0 1 2} {
+            foreach v [list [list $d $d 0] [list $d 0 [expr {-$d}]] [list 0 $d [expr {-$d}]]] {
+                set v [rot $tip [expr {asin(2/sqrt(6))}] $v]
+                lappend dirs [rot {0 0 1} [expr {$set*2*acos(-1)/3}] $v]
+            }
+        }
+        proc flake {c r dir depth} {
+            global dirs
+            sphere {*}$c $r
+            if {$depth == 0} return
+            lassign $dir dx dy dz
+            # The turn from +z to dir.
+            if {$dz >= 1} { set axis {0 0 1}; set ang 0 } else {
+                set n [expr {sqrt($dy*$dy + $dx*$dx)}]
+                set axis [list [expr {-$dy/$n}] [expr {$dx/$n}] 0]; set ang [expr {acos($dz)}]
+            }
+            foreach u $dirs {
+                set v [rot $axis $ang $u]
+                set cc {}
+                foreach a $c b $v { lappend cc [expr {$a + $b*$r*4/3.0}] }
+                flake $cc [expr {$r/3.0}] $v [expr {$depth - 1}]
+            }
+        }
+        flake {0 0 0} 0.5 {0 0 1} 2
+    "#;
+    let lazy = render(&dir, &format!("{head}sphereflake 0 0 0 0.5 2; render a.ppm"));
+    let given = render(&dir, &format!("{head}{tcl_flake}\nrender b.ppm"));
+    let (n, max) = differ(&lazy, &given, 2);
+    assert!(n <= 6, "against the Tcl flake: {n} channels differ (max {max})");
+    let balls = crate::util::root().join("../shared/spd/balls-s3.nff");
+    if balls.is_file() {
+        // The file's camera, lights, floor and materials, less its spheres.
+        let text = std::fs::read_to_string(&balls).unwrap();
+        let rest: String =
+            text.lines().filter(|l| !l.starts_with("s ")).map(|l| format!("{l}\n")).collect();
+        std::fs::write(dir.join("rest.nff"), rest).unwrap();
+        let from_file = render(
+            &dir,
+            &format!("nff {{{}}}; camera_resolution 96 96; render c.ppm", balls.display()),
+        );
+        let flake = render(
+            &dir,
+            "nff rest.nff; camera_resolution 96 96; sphereflake 0 0 0 0.5 3; render d.ppm",
+        );
+        let (n, max) = differ(&from_file, &flake, 2);
+        // The file rounds positions and radii to 6 digits: edge pixels of
+        // the smallest spheres move (66 channels of 27,648 here).
+        assert!(n <= 140, "against balls-s3.nff: {n} channels differ (max {max})");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `menger` against the same sponge made of `box`es.
+pub fn sponges_match_their_boxes() {
+    let dir = scratch("shapes-menger");
+    let head = "camera_from 4 3 5; camera_target 0 0 0; camera_resolution 96 96\n\
+                ambient_light 0.2 0.2 0.2; point_light 40 40 40 5 6 4; material 0.9 0.8 0.6 0.3 0.7 0.2 20 0 1\n";
+    let boxes = r#"
+        proc sponge {x y z s depth} {
+            if {$depth == 0} {
+                set h [expr {$s / 2.0}]
+                box [expr {$x-$h}] [expr {$y-$h}] [expr {$z-$h}] [expr {$x+$h}] [expr {$y+$h}] [expr {$z+$h}]
+                return
+            }
+            set t [expr {$s / 3.0}]
+            foreach i {-1 0 1} { foreach j {-1 0 1} { foreach k {-1 0 1} {
+                if {($i == 0) + ($j == 0) + ($k == 0) >= 2} continue
+                sponge [expr {$x + $i*$t}] [expr {$y + $j*$t}] [expr {$z + $k*$t}] $t [expr {$depth - 1}]
+            }}}
+        }
+        sponge 0 0 0 3 2
+    "#;
+    let lazy = render(&dir, &format!("{head}menger 0 0 0 3 2; render a.ppm"));
+    let given = render(&dir, &format!("{head}{boxes}\nrender b.ppm"));
+    let (n, max) = differ(&lazy, &given, 2);
+    assert!(n <= 6, "{n} channels differ (max {max})");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,224 @@
+//! Eric Haines' Neutral File Format, the format of the SPD benchmark
+//! scenes: `v` (from, at, up, angle, hither, resolution), `b` background,
+//! `l` lights, `f` fill materials, `c` cones and cylinders, `s` spheres,
+//! `p` polygons and `pp` polygonal patches with normals; `#` comments.
+//! Read as a stream of words (SPD writes a cone on one line or three), each
+//! item applied to the builder as it is read.
+//!
+//! NFF has no ambient term and its lights do not fall off; a light is
+//! placed as a point light of intensity colour·d², d its distance to the
+//! view's `at` point, so it lights the scene's centre as the file means.
+
+use std::io::BufRead;
+
+use glam::{DVec3, Vec3};
+
+use crate::scene::{Builder, Light, Material, SceneError};
+
+/// What a file held, by kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    pub spheres: u64,
+    pub cones: u64,
+    pub polygons: u64,
+    pub patches: u64,
+    pub lights: u64,
+}
+
+/// The words of a file with their line numbers.
+struct Words<R> {
+    lines: std::io::Lines<R>,
+    line: usize,
+    pending: std::vec::IntoIter<String>,
+}
+
+impl<R: BufRead> Words<R> {
+    fn next(&mut self) -> Result<Option<String>, String> {
+        loop {
+            if let Some(w) = self.pending.next() {
+                return Ok(Some(w));
+            }
+            let Some(l) = self.lines.next() else { return Ok(None) };
+            let l = l.map_err(|e| format!("line {}: {e}", self.line + 1))?;
+            self.line += 1;
+            let l = l.split('#').next().unwrap_or("");
+            self.pending = l.split_whitespace().map(str::to_string).collect::<Vec<_>>().into_iter();
+        }
+    }
+
+    fn word(&mut self, what: &str) -> Result<String, String> {
+        self.next()?.ok_or_else(|| format!("the file ends where {what} should be"))
+    }
+
+    fn num(&mut self, what: &str) -> Result<f64, String> {
+        let w = self.word(what)?;
+        match w.parse::<f64>() {
+            Ok(x) if x.is_finite() && x.abs() <= f32::MAX as f64 => Ok(x),
+            _ => Err(format!("expected {what} but got \"{w}\"")),
+        }
+    }
+
+    fn vec(&mut self, what: &str) -> Result<DVec3, String> {
+        Ok(DVec3::new(self.num(what)?, self.num(what)?, self.num(what)?))
+    }
+
+    fn count(&mut self, what: &str) -> Result<usize, String> {
+        let w = self.word(what)?;
+        match w.parse::<usize>() {
+            Ok(n) if (3..=1 << 20).contains(&n) => Ok(n),
+            _ => Err(format!("expected {what} (3 or more) but got \"{w}\"")),
+        }
+    }
+}
+
+/// Reads NFF from `reader` into `b`; `name` names it in messages
+/// (`name:LINE: ...`).
+pub fn load(b: &mut Builder, name: &str, reader: impl BufRead) -> Result<Counts, String> {
+    let mut w = Words { lines: reader.lines(), line: 0, pending: Vec::new().into_iter() };
+    let mut counts = Counts::default();
+    // The view's `at`, for the lights; the lights wait for the view.
+    let mut at: Option<DVec3> = None;
+    let mut lights: Vec<(DVec3, Vec3)> = Vec::new();
+    let located = |line: usize, e: String| format!("{name}:{line}: {e}");
+    let scene = |e: SceneError| e.to_string();
+    loop {
+        let word = match w.next() {
+            Ok(Some(x)) => x,
+            Ok(None) => break,
+            Err(e) => return Err(located(w.line, e)),
+        };
+        let line = w.line;
+        let r: Result<(), String> = (|| {
+            match word.as_str() {
+                "v" => {
+                    let (mut from, mut target, mut up) = (None, None, None);
+                    let (mut angle, mut res) = (None, None);
+                    for _ in 0..6 {
+                        match w.word("a view keyword")?.as_str() {
+                            "from" => from = Some(w.vec("a number")?),
+                            "at" => target = Some(w.vec("a number")?),
+                            "up" => up = Some(w.vec("a number")?),
+                            "angle" => angle = Some(w.num("an angle")?),
+                            "hither" => {
+                                w.num("a distance")?;
+                            }
+                            "resolution" => res = Some((w.num("a width")?, w.num("a height")?)),
+                            k => {
+                                return Err(format!(
+                                    "bad view keyword \"{k}\": must be from, at, up, angle, hither or resolution"
+                                ));
+                            }
+                        }
+                    }
+                    let (Some(from), Some(target), Some(up), Some(angle), Some((rw, rh))) =
+                        (from, target, up, angle, res)
+                    else {
+                        return Err(
+                            "a view needs from, at, up, angle, hither and resolution".into()
+                        );
+                    };
+                    b.camera_from(from).map_err(scene)?;
+                    b.camera_target(target).map_err(scene)?;
+                    b.camera_up(up.as_vec3()).map_err(scene)?;
+                    b.camera_angle(angle as f32).map_err(scene)?;
+                    b.camera_resolution(rw as i64, rh as i64).map_err(scene)?;
+                    at = Some(target);
+                }
+                "b" => b.set_background(w.vec("a colour")?.as_vec3()).map_err(scene)?,
+                "l" => {
+                    let p = w.vec("a position")?;
+                    // An optional colour: three more numbers on the line.
+                    let colour =
+                        if w.pending.len() >= 3 { w.vec("a colour")?.as_vec3() } else { Vec3::ONE };
+                    lights.push((p, colour));
+                    counts.lights += 1;
+                }
+                "f" => {
+                    let c = w.vec("a colour")?.as_vec3();
+                    let (kd, ks, shine) = (w.num("Kd")?, w.num("Ks")?, w.num("Shine")?);
+                    let (t, ior) = (w.num("T")?, w.num("an index of refraction")?);
+                    let m = Material {
+                        color: c,
+                        ka: 0.0,
+                        kd: kd as f32,
+                        ks: ks as f32,
+                        ns: shine as f32,
+                        t: t as f32,
+                        ior: if t > 0.0 && ior == 0.0 { 1.0 } else { ior as f32 },
+                    };
+                    b.set_material(m).map_err(scene)?;
+                }
+                "c" => {
+                    let (base, r0) = (w.vec("a position")?, w.num("a radius")?);
+                    let (apex, r1) = (w.vec("a position")?, w.num("a radius")?);
+                    b.cone(base, r0.abs(), apex, r1.abs(), false).map_err(scene)?;
+                    counts.cones += 1;
+                }
+                "s" => {
+                    let (c, r) = (w.vec("a position")?, w.num("a radius")?);
+                    b.sphere(c, r).map_err(scene)?;
+                    counts.spheres += 1;
+                }
+                "p" => {
+                    let n = w.count("a vertex count")?;
+                    let mut v = Vec::with_capacity(n.min(1024));
+                    for _ in 0..n {
+                        v.push(b.vertex(w.vec("a vertex")?).map_err(scene)? as i64);
+                    }
+                    for k in 1..n - 1 {
+                        b.tri([v[0], v[k], v[k + 1]]).map_err(scene)?;
+                    }
+                    counts.polygons += 1;
+                }
+                "pp" => {
+                    let n = w.count("a vertex count")?;
+                    let mut v = Vec::with_capacity(n.min(1024));
+                    for _ in 0..n {
+                        let p = b.vertex(w.vec("a vertex")?).map_err(scene)? as i64;
+                        let nn = w.vec("a normal")?.as_vec3();
+                        let ni = b.normal(nn).map_err(scene)? as i64;
+                        v.push((p, ni));
+                    }
+                    for k in 1..n - 1 {
+                        b.ntri([v[0], v[k], v[k + 1]]).map_err(scene)?;
+                    }
+                    counts.patches += 1;
+                }
+                other => return Err(format!("unknown NFF item \"{other}\"")),
+            }
+            Ok(())
+        })();
+        r.map_err(|e| located(line, e))?;
+    }
+    let centre = at.unwrap_or(DVec3::ZERO);
+    for (p, c) in lights {
+        let d2 = (p - centre).length_squared().max(1e-12) as f32;
+        let light = Light::point(c * d2, p).map_err(|e| format!("{name}: {e}"))?;
+        b.add_light(light).map_err(|e| format!("{name}: {e}"))?;
+    }
+    Ok(counts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_every_item_and_counts_them() {
+        let src = "b 0.1 0.2 0.3\nv\nfrom 0 -5 1\nat 0 0 0\nup 0 0 1\nangle 40\nhither 0.1\nresolution 64 48\n\
+                   l 1 2 3\nl 0 0 5 0.5 0.5 0.5\n# a comment\nf 1 0 0 0.7 0.3 20 0 1\n\
+                   s 0 0 0 1\nc 0 0 0 0.5 0 0 1 0.25\np 4\n-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n\
+                   pp 3\n0 0 2 0 0 1\n1 0 2 0 0 1\n0 1 2 0 0 1\n";
+        let mut b = Builder::default();
+        let c = load(&mut b, "t.nff", src.as_bytes()).unwrap();
+        assert_eq!(c, Counts { spheres: 1, cones: 1, polygons: 1, patches: 1, lights: 2 });
+        assert_eq!((b.width, b.height), (64, 48));
+        assert_eq!(b.prims.len(), 1 + 2 + 1);
+        assert_eq!(b.objects.len(), 1);
+        assert_eq!(b.lights.len(), 2);
+        let bad = load(&mut Builder::default(), "t.nff", "s 0 0 0 1\ns 0 0 x 1\n".as_bytes());
+        assert_eq!(bad.unwrap_err(), "t.nff:2: expected a position but got \"x\"");
+        let bad = load(&mut Builder::default(), "t.nff", "q 1\n".as_bytes());
+        assert_eq!(bad.unwrap_err(), "t.nff:1: unknown NFF item \"q\"");
+    }
+}
