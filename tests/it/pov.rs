@@ -1,4 +1,6 @@
-//! POV-Ray 3.7 as the outside oracle for refraction: each `tests/pov/NAME.tsd`
+//! POV-Ray 3.7 as the outside oracle for refraction and for the shapes of
+//! issue "shapes" (`shapes`: plane, box, cylinder, cone, disc, torus, blob;
+//! `csg`: union, intersection, difference, merge): each `tests/pov/NAME.tsd`
 //! has a `NAME.pov` built to the same conventions (glass as `rgbf` filter,
 //! `interior { ior }`, no ambient or diffuse on glass, the same trace depth
 //! and cut-off), and the two pictures must agree: at most 1 % of the pixels
@@ -94,4 +96,18 @@ pub fn smooth_meshes_refract_the_same_whichever_way_they_are_wound() {
     }
     let (_, share) = compare(&ours(&dir, "cube", "set winding cw; set smooth 0"), &ccw);
     assert!(share > 0.1, "an inside-out flat cube should refract differently");
+}
+
+pub fn shapes_and_csg_match_povray() {
+    if !povray_available() {
+        crate::util::skip("povray is not installed (apt-get install povray)");
+    }
+    let dir = scratch("pov-shapes");
+    let mut report = Vec::new();
+    for name in ["shapes", "csg"] {
+        let (n, share) = compare(&ours(&dir, name, ""), &theirs(&dir, name));
+        report.push(format!("{name}: {n} pixels ({:.2} %) off by more than 2/255", share * 100.0));
+        assert!(share <= 0.01, "{}", report.join("\n"));
+    }
+    println!("{}", report.join("\n"));
 }
