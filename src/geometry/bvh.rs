@@ -270,15 +270,33 @@ impl Bvh {
         Bvh { nodes, blocks, recs, objects, unbounded: after, depth, degenerate }
     }
 
+    /// This tree's nodes, leaves and depth; the bytes of everything it
+    /// holds, the trees of its instances included (each counted once).
     pub fn stats(&self) -> BvhStats {
         BvhStats {
             nodes: self.nodes.len(),
             leaves: self.nodes.iter().map(|n| n.count.iter().filter(|&&c| c > 0).count()).sum(),
             depth: self.depth,
-            bytes: self.nodes.len() * std::mem::size_of::<Wide>()
-                + self.blocks.len() * std::mem::size_of::<Block>()
-                + self.recs.len() * std::mem::size_of::<Rec>(),
+            bytes: self.bytes(&mut std::collections::HashSet::new()),
         }
+    }
+
+    fn bytes(&self, seen: &mut std::collections::HashSet<*const Bvh>) -> usize {
+        let own = self.nodes.len() * std::mem::size_of::<Wide>()
+            + self.blocks.len() * std::mem::size_of::<Block>()
+            + self.recs.len() * std::mem::size_of::<Rec>()
+            + self.objects.len() * std::mem::size_of::<Object>();
+        let inner: usize = self
+            .objects
+            .iter()
+            .map(|o| match &o.kind {
+                super::object::Kind::Tree(t) if seen.insert(std::sync::Arc::as_ptr(t)) => {
+                    t.bytes(seen)
+                }
+                _ => 0,
+            })
+            .sum();
+        own + inner
     }
 
     /// The number of primitives.
