@@ -470,6 +470,47 @@ impl Bvh {
         (best, steps)
     }
 
+    /// Calls `each(t, prim)` for every crossing of a triangle or sphere
+    /// along the ray's whole line, in no order (objects are not looked
+    /// into): what CSG needs of a closed mesh.
+    pub fn crossings(&self, ray: &Ray, each: &mut dyn FnMut(f32, u32)) {
+        // The walk's slab test is made robust for t ≥ 0 only: start the ray
+        // before the tree (where its line enters the bounds) and count
+        // from there.
+        let b = self.bounds();
+        if b.is_empty() {
+            return;
+        }
+        let inv = ray.dir.recip();
+        let (t0, t1) =
+            ((Vec3::from(b.min) - ray.origin) * inv, (Vec3::from(b.max) - ray.origin) * inv);
+        let enter = t0.min(t1).max_element();
+        let back = if enter.is_finite() { enter.min(0.0) * 1.01 - 1e-3 } else { 0.0 };
+        let start = Ray { origin: ray.at(back), ..*ray };
+        let pre = Pre4::new(&start, &RayPre::new(start.dir));
+        let mut t_end = f32::INFINITY;
+        self.traverse(&start, 0.0, &mut t_end, |tris, spheres, _, t_max| {
+            for b in tris {
+                let (mut mask, t, _) = b.triangles(&pre, 0.0, *t_max);
+                while mask != 0 {
+                    let l = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    each(t[l] + back, b.prim[l]);
+                }
+            }
+            for b in spheres {
+                for l in (0..4).filter(|&l| b.prim[l] != blocks::NONE) {
+                    let mut from = 0.0;
+                    while let Some(t) = b.sphere(l, &start, from, *t_max) {
+                        each(t + back, b.prim[l]);
+                        from = t;
+                    }
+                }
+            }
+            false
+        });
+    }
+
     /// Tests the objects among `prims` (out of the hot path of triangles
     /// and spheres), passing hits to `consider`.
     #[inline(never)]

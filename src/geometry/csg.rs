@@ -1,15 +1,19 @@
-//! Constructive solid geometry over analytic solids, by intervals: every
+//! Constructive solid geometry over closed solids (analytic ones, blobs
+//! and closed meshes), by intervals: every
 //! leaf's crossings along the ray's whole line, in order, toggle whether
 //! the ray is inside that leaf (each leaf is closed and bounded, so it
 //! starts outside); a crossing is a surface of the composite where the
 //! composite's membership changes. `union` keeps every leaf's surface (as
 //! POV-Ray's does, seen through glass); `merge` keeps only the outside.
 
+use std::sync::Arc;
+
 use glam::Vec3;
 
+use super::blob::Blob;
 use super::object::{Local, Located, Place};
 use super::solid::Solid;
-use super::{Aabb, Ray};
+use super::{Aabb, Bvh, Ray, Shape};
 
 /// The CSG operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -37,11 +41,78 @@ impl Op {
 }
 
 /// A solid of the CSG, placed in the CSG's coordinates.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Leaf {
     pub place: Place,
-    pub solid: Solid,
+    pub shape: LeafShape,
     pub material: u32,
+}
+
+/// What a leaf is: each closed, so a line starts and ends outside it.
+#[derive(Clone, Debug)]
+pub enum LeafShape {
+    Solid(Solid),
+    Blob(Arc<Blob>),
+    /// A closed mesh (its triangles wound counter-clockwise seen from
+    /// outside, as `mesh` reads them).
+    Mesh(Arc<Bvh>),
+}
+
+impl LeafShape {
+    fn bounds(&self) -> Aabb {
+        match self {
+            LeafShape::Solid(s) => s.bounds(),
+            LeafShape::Blob(b) => b.bounds(),
+            LeafShape::Mesh(m) => m.bounds(),
+        }
+    }
+
+    /// Every crossing of the ray's line, as (t, part), into `out`.
+    fn crossings(&self, ray: &Ray, out: &mut Vec<(f32, u32)>) {
+        match self {
+            LeafShape::Solid(s) => {
+                out.extend(s.crossings(ray).as_slice().iter().map(|c| (c.t, c.part)))
+            }
+            LeafShape::Blob(b) => b.crossings(ray, |t| {
+                out.push((t, 0));
+                false
+            }),
+            LeafShape::Mesh(m) => {
+                let from = out.len();
+                m.crossings(ray, &mut |t, prim| out.push((t, prim)));
+                out[from..].sort_by(|a, b| a.0.total_cmp(&b.0));
+                // Along a line through a closed mesh, crossings alternate:
+                // in (against the outward normals), out, in... A line
+                // through an edge or a vertex meets two triangles or more
+                // there facing the same way: keep one of each run.
+                let entering = |prim: u32| match m.shape(prim) {
+                    Shape::Triangle(t) => t.cross().dot(ray.dir) < 0.0,
+                    _ => true,
+                };
+                let mut k = from;
+                for i in from..out.len() {
+                    let want_entering = (k - from).is_multiple_of(2);
+                    if entering(out[i].1) == want_entering {
+                        out[k] = out[i];
+                        k += 1;
+                    }
+                }
+                out.truncate(k);
+            }
+        }
+    }
+
+    /// The outward normal at `p` on `part`.
+    fn normal(&self, p: Vec3, part: u32) -> Vec3 {
+        match self {
+            LeafShape::Solid(s) => s.normal(p, part),
+            LeafShape::Blob(b) => b.normal(p),
+            LeafShape::Mesh(m) => match m.shape(part) {
+                Shape::Triangle(t) => t.cross(),
+                _ => Vec3::Z,
+            },
+        }
+    }
 }
 
 /// The tree of operations over the leaves.
@@ -64,9 +135,6 @@ pub struct Csg {
     bounds: Aabb,
 }
 
-/// Parts of a leaf's surface fit in this many bits of a hit's `sub`.
-const PART_BITS: u32 = 3;
-
 impl Csg {
     /// `leaves` must be closed solids, each named once by `root`.
     pub fn new(leaves: Vec<Leaf>, root: Node) -> Csg {
@@ -81,21 +149,21 @@ impl Csg {
     }
 
     /// Every surface of the composite along the ray's line, in order, as
-    /// (t, leaf, part), passed to `each` until it returns true.
-    fn surfaces(&self, ray: &Ray, mut each: impl FnMut(f32, u32, u32) -> bool) {
-        let mut events: Vec<(f32, u32, u32)> = Vec::new();
+    /// (t, leaf), passed to `each` until it returns true.
+    fn surfaces(&self, ray: &Ray, mut each: impl FnMut(f32, u32) -> bool) {
+        let mut events: Vec<(f32, u32)> = Vec::new();
+        let mut one = Vec::new();
         for (i, leaf) in self.leaves.iter().enumerate() {
-            let local = leaf.place.local(ray);
-            for c in leaf.solid.crossings(&local).as_slice() {
-                events.push((c.t, i as u32, c.part));
-            }
+            one.clear();
+            leaf.shape.crossings(&leaf.place.local(ray), &mut one);
+            events.extend(one.iter().map(|&(t, _)| (t, i as u32)));
         }
         events.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut inside = vec![false; self.leaves.len()];
-        for (t, leaf, part) in events {
+        for (t, leaf) in events {
             let before = eval(&self.root, &inside);
             inside[leaf as usize] = !inside[leaf as usize];
-            if is_surface(&self.root, leaf, before, &inside) && each(t, leaf, part) {
+            if is_surface(&self.root, leaf, before, &inside) && each(t, leaf) {
                 return;
             }
         }
@@ -104,12 +172,12 @@ impl Csg {
     /// The first surface in `(t_min, t_max)`: its distance and `sub`.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
         let mut found = None;
-        self.surfaces(ray, |t, leaf, part| {
+        self.surfaces(ray, |t, leaf| {
             if t >= t_max {
                 return true;
             }
             if t > t_min {
-                found = Some((t, leaf << PART_BITS | part));
+                found = Some((t, leaf));
                 return true;
             }
             false
@@ -127,7 +195,7 @@ impl Csg {
         pass: &mut dyn FnMut(u32) -> Vec3,
     ) -> Vec3 {
         let mut through = Vec3::ONE;
-        self.surfaces(ray, |t, leaf, _| {
+        self.surfaces(ray, |t, leaf| {
             if t >= t_max {
                 return true;
             }
@@ -139,12 +207,19 @@ impl Csg {
         through
     }
 
-    /// The surface `intersect` found at `t` with `sub`.
+    /// The surface `intersect` found at `t` on leaf `sub`: the leaf's
+    /// crossing there, asked again.
     pub fn locate(&self, ray: &Ray, t: f32, sub: u32) -> Located {
-        let (i, part) = ((sub >> PART_BITS) as usize, sub & ((1 << PART_BITS) - 1));
+        let i = sub as usize;
         let leaf = &self.leaves[i];
-        let p = leaf.place.local(ray).at(t);
-        let n = leaf.solid.normal(p, part);
+        let local = leaf.place.local(ray);
+        let mut all = Vec::new();
+        leaf.shape.crossings(&local, &mut all);
+        let part = all
+            .iter()
+            .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))
+            .map_or(0, |c| c.1);
+        let n = leaf.shape.normal(local.at(t), part);
         Located {
             local: Local::Solid { normal: if self.flipped[i] { -n } else { n } },
             material: leaf.material,
@@ -152,36 +227,12 @@ impl Csg {
             to_local: leaf.place.at(ray.time),
         }
     }
-
-    /// Whether `p` (in the CSG's coordinates) is inside: the boolean
-    /// formula over the leaves' own inside tests.
-    pub fn contains(&self, p: Vec3, inside_leaf: impl Fn(&Solid, Vec3) -> bool) -> bool {
-        let inside: Vec<bool> = self
-            .leaves
-            .iter()
-            .map(|l| {
-                let q = l.place.to_local.map_or(p, |m| m.transform_point3(p));
-                inside_leaf(&l.solid, q)
-            })
-            .collect();
-        eval(&self.root, &inside)
-    }
 }
 
 /// Whether the composite (or the subtree `n`) holds a point whose leaves'
 /// memberships are `inside`.
 fn eval(n: &Node, inside: &[bool]) -> bool {
-    match n {
-        Node::Leaf(i) => inside[*i as usize],
-        Node::Op(op, kids) => match op {
-            Op::Union | Op::Merge => kids.iter().any(|k| eval(k, inside)),
-            Op::Intersection => kids.iter().all(|k| eval(k, inside)),
-            Op::Difference => {
-                kids.first().is_some_and(|k| eval(k, inside))
-                    && !kids[1..].iter().any(|k| eval(k, inside))
-            }
-        },
-    }
+    eval_before(n, inside, u32::MAX)
 }
 
 /// Whether toggling `leaf` (membership `before` of `n`, leaves now
@@ -197,7 +248,8 @@ fn is_surface(n: &Node, leaf: u32, before: bool, after: &[bool]) -> bool {
     }
 }
 
-/// `eval` with `leaf`'s membership as it was before it toggled.
+/// `eval` with `leaf`'s membership as it was before it toggled (none
+/// for `u32::MAX`).
 fn eval_before(n: &Node, after: &[bool], leaf: u32) -> bool {
     match n {
         Node::Leaf(i) => after[*i as usize] ^ (*i == leaf),
@@ -234,7 +286,7 @@ fn node_bounds(n: &Node, leaves: &[Leaf]) -> Aabb {
     match n {
         Node::Leaf(i) => {
             let l = &leaves[*i as usize];
-            l.place.bounds(l.solid.bounds(), [0.0, 0.0])
+            l.place.bounds(l.shape.bounds(), [0.0, 0.0])
         }
         Node::Op(op, kids) => {
             let mut b = kids.iter().map(|k| node_bounds(k, leaves));

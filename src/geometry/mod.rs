@@ -17,7 +17,10 @@ mod solid;
 pub use aabb::Aabb;
 pub use blob::{Blob, Component as BlobComponent};
 pub use bvh::{Bvh, BvhStats, TIE};
-pub use csg::{Csg, Leaf as CsgLeaf, MAX_LEAVES as CSG_MAX_LEAVES, Node as CsgNode, Op as CsgOp};
+pub use csg::{
+    Csg, Leaf as CsgLeaf, LeafShape as CsgShape, MAX_LEAVES as CSG_MAX_LEAVES, Node as CsgNode,
+    Op as CsgOp,
+};
 pub use fractal::{Flake, MAX_DEPTH as FRACTAL_MAX_DEPTH, Menger};
 pub use object::{Kind, Local, Located, Object, Place};
 pub use ray::Ray;

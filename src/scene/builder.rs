@@ -522,9 +522,8 @@ impl Builder {
         translate: DVec3,
         flat: bool,
     ) -> Result<usize, SceneError> {
-        if self.in_csg() {
-            return Err(SceneError::Invalid("csg takes closed solids only, not meshes".into()));
-        }
+        // In a CSG, the mesh is a solid of it (it must be closed).
+        let csg_start = self.in_csg().then_some(self.prims.len());
         let xf = self.transform;
         let place = |p: Vec3| xf.transform_point3(p.as_dvec3() * scale + translate);
         // Normals by the inverse transpose (and a mirroring scale's sign).
@@ -594,6 +593,11 @@ impl Builder {
             self.prims.push(Prim::MeshTri { v: t.map(|i| vbase + i), n, material });
         }
         self.mesh_vertices.extend(positions);
+        if let Some(start) = csg_start {
+            let prims: Vec<Prim> = self.prims.drain(start..).collect();
+            let leaf = super::objects::LeafDef::Mesh(prims);
+            self.add_csg_leaf(leaf, DAffine3::IDENTITY, material)?;
+        }
         Ok(added)
     }
 

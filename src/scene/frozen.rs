@@ -11,9 +11,10 @@ use super::builder::{Builder, Prim, SceneError};
 use super::camera::Camera;
 use super::light::Light;
 use super::material::Material;
-use super::objects::{CsgTree, ObjDef, ObjKind};
+use super::objects::{CsgTree, LeafDef, ObjDef, ObjKind};
 use crate::geometry::{
-    Blob, Bvh, Csg, CsgLeaf, CsgNode, Flake, Hit, Kind, Located, Menger, Object, Place, Ray, Shape,
+    Blob, Bvh, Csg, CsgLeaf, CsgNode, CsgShape, Flake, Hit, Kind, Located, Menger, Object, Place,
+    Ray, Shape,
 };
 
 pub struct Scene {
@@ -156,13 +157,28 @@ fn freeze_level(
             ObjKind::Csg { leaves, root } => {
                 let leaves = leaves
                     .iter()
-                    .map(|l| CsgLeaf {
-                        place: Place {
-                            to_local: to_local(l.to_world, origin),
-                            velocity: Vec3::ZERO,
-                        },
-                        solid: l.solid,
-                        material: l.material,
+                    .map(|l| {
+                        let (shape, to_local) = match &l.shape {
+                            LeafDef::Solid(s) => {
+                                (CsgShape::Solid(*s), to_local(l.to_world, origin))
+                            }
+                            LeafDef::Blob { comps, threshold } => (
+                                CsgShape::Blob(Arc::new(Blob::new(comps.clone(), *threshold))),
+                                to_local(l.to_world, origin),
+                            ),
+                            // Built from the eye, as the scene's triangles.
+                            LeafDef::Mesh(prims) => (
+                                CsgShape::Mesh(Arc::new(Bvh::build_from(prims.len(), |k| {
+                                    b.shape_of(&prims[k], origin)
+                                }))),
+                                None,
+                            ),
+                        };
+                        CsgLeaf {
+                            place: Place { to_local, velocity: Vec3::ZERO },
+                            shape,
+                            material: l.material,
+                        }
                     })
                     .collect();
                 Kind::Csg(Box::new(Csg::new(leaves, csg_node(root))))

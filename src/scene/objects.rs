@@ -66,11 +66,23 @@ pub struct BlobFrame {
     comps: Vec<BlobComponent>,
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct CsgLeafDef {
-    pub solid: Solid,
+    pub shape: LeafDef,
     pub to_world: DAffine3,
     pub material: u32,
+}
+
+/// A CSG solid as the script made it.
+#[derive(Clone, Debug)]
+pub enum LeafDef {
+    Solid(Solid),
+    Blob {
+        comps: Vec<BlobComponent>,
+        threshold: f32,
+    },
+    /// A mesh's triangles (placed in world coordinates already).
+    Mesh(Vec<Prim>),
 }
 
 #[derive(Clone, Debug)]
@@ -210,25 +222,36 @@ impl Builder {
     fn add_solid(&mut self, solid: Solid, local: DAffine3) -> Result<(), SceneError> {
         let to_world = self.placement(local)?;
         let material = self.material_index();
-        if let Some(frame) = self.csg.last_mut() {
+        if self.in_csg() {
             if !solid.is_closed() {
                 return Err(invalid(
-                    "csg takes closed solids only: spheres, boxes, capped cylinders and cones, tori and other csg"
+                    "csg takes closed solids only: spheres, boxes, capped cylinders and cones, tori, blobs, closed meshes and other csg"
                         .into(),
                 ));
             }
-            if self.csg_leaves.len() >= crate::geometry::CSG_MAX_LEAVES {
-                return Err(invalid(format!(
-                    "too many solids in one csg (the limit is {})",
-                    crate::geometry::CSG_MAX_LEAVES
-                )));
-            }
-            crate::mem::room(&self.csg_leaves, 1)?;
-            frame.items.push(CsgTree::Leaf(self.csg_leaves.len() as u32));
-            self.csg_leaves.push(CsgLeafDef { solid, to_world, material });
-            return Ok(());
+            return self.add_csg_leaf(LeafDef::Solid(solid), to_world, material);
         }
         self.add_object(ObjKind::Solid { solid, material }, to_world)
+    }
+
+    /// A solid of the CSG being made.
+    pub(crate) fn add_csg_leaf(
+        &mut self,
+        shape: LeafDef,
+        to_world: DAffine3,
+        material: u32,
+    ) -> Result<(), SceneError> {
+        if self.csg_leaves.len() >= crate::geometry::CSG_MAX_LEAVES {
+            return Err(invalid(format!(
+                "too many solids in one csg (the limit is {})",
+                crate::geometry::CSG_MAX_LEAVES
+            )));
+        }
+        crate::mem::room(&self.csg_leaves, 1)?;
+        let frame = self.csg.last_mut().expect("called inside a csg");
+        frame.items.push(CsgTree::Leaf(self.csg_leaves.len() as u32));
+        self.csg_leaves.push(CsgLeafDef { shape, to_world, material });
+        Ok(())
     }
 
     fn add_object(&mut self, kind: ObjKind, to_world: DAffine3) -> Result<(), SceneError> {
@@ -421,9 +444,6 @@ impl Builder {
         if !(threshold > 0.0 && threshold.is_finite()) {
             return Err(invalid(format!("a blob's threshold must be above 0, got {threshold}")));
         }
-        if self.in_csg() {
-            return Err(invalid("blobs in csg are not supported yet".into()));
-        }
         if self.blob.is_some() {
             return Err(invalid("a blob cannot be made inside another".into()));
         }
@@ -465,8 +485,12 @@ impl Builder {
             return Err(invalid("a blob needs a blob_sphere of positive strength".into()));
         }
         let material = self.material_index();
-        let kind =
-            ObjKind::Blob { comps: frame.comps, threshold: frame.threshold as f32, material };
+        let threshold = frame.threshold as f32;
+        if self.in_csg() {
+            let leaf = LeafDef::Blob { comps: frame.comps, threshold };
+            return self.add_csg_leaf(leaf, frame.to_world, material);
+        }
+        let kind = ObjKind::Blob { comps: frame.comps, threshold, material };
         self.add_object(kind, frame.to_world)
     }
 

@@ -210,7 +210,7 @@ pub const SCENE: &[Doc] = &[
     },
     Doc {
         name: "csg",
-        meaning: "constructive solid geometry of the closed solids the script makes (spheres, boxes, capped cylinders and cones, tori, nested `csg`): `union` (every surface, as POV-Ray's), `intersection`, `difference` (the first less the rest), `merge` (a union without inner surfaces). Each solid keeps its material and transform",
+        meaning: "constructive solid geometry of the closed solids the script makes (spheres, boxes, capped cylinders and cones, tori, blobs, closed meshes from `mesh`, nested `csg`): `union` (every surface, as POV-Ray's), `intersection`, `difference` (the first less the rest), `merge` (a union without inner surfaces). Each solid keeps its material and transform",
         default: "",
         example: "csg difference { box -1 -1 -1 1 1 1; sphere 0 0 0 1.3 }",
     },

@@ -79,6 +79,7 @@ fn main() {
         shapes::spd_scenes_load_with_their_counts,
         shapes::sphereflakes_match_their_spheres,
         shapes::sponges_match_their_boxes,
+        shapes::blobs_and_closed_meshes_join_csg,
         bad::the_corpus_is_big_enough,
         bad::every_bad_input_exits_with_a_located_message,
         bad::the_repl_survives_every_bad_input,

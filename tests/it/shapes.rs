@@ -372,3 +372,43 @@ pub fn sponges_match_their_boxes() {
     assert!(n <= 6, "{n} channels differ (max {max})");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Blobs and closed meshes are CSG solids too: a cube read from an OBJ
+/// file less a ball is the box less the ball, and a blob intersected with
+/// a box around it is the blob.
+pub fn blobs_and_closed_meshes_join_csg() {
+    let dir = scratch("shapes-csg-mesh");
+    // A unit cube, faces counter-clockwise seen from outside.
+    let cube = "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
+                f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n";
+    std::fs::write(dir.join("cube.obj"), cube).unwrap();
+    let ball = "sphere 0.6 0.7 0.8 0.9";
+    let from_mesh = render(
+        &dir,
+        &format!(
+            "{STAGE}transform {{ translate 0 1 0; csg difference {{ mesh cube.obj -flat; {ball} }} }}; render a.ppm"
+        ),
+    );
+    let from_box = render(
+        &dir,
+        &format!(
+            "{STAGE}transform {{ translate 0 1 0; csg difference {{ box -1 -1 -1 1 1 1; {ball} }} }}; render b.ppm"
+        ),
+    );
+    let (n, max) = differ(&from_mesh, &from_box, 2);
+    assert!(n <= 8, "mesh cube vs box: {n} channels differ (max {max})");
+    let blob = "blob 0.4 { blob_sphere -0.4 1 0 0.9 1; blob_sphere 0.5 1.2 0 0.8 1 }";
+    let alone = render(&dir, &format!("{STAGE}{blob}; render c.ppm"));
+    let cut = render(
+        &dir,
+        &format!("{STAGE}csg intersection {{ {blob}; box -3 -1 -3 3 3 3 }}; render d.ppm"),
+    );
+    let (n, max) = differ(&alone, &cut, 2);
+    assert!(n <= 8, "blob vs blob within a box: {n} channels differ (max {max})");
+    let halved = render(
+        &dir,
+        &format!("{STAGE}csg intersection {{ {blob}; box -3 -1 -3 0 3 3 }}; render e.ppm"),
+    );
+    assert!(differ(&alone, &halved, 2).0 > 100, "cutting the blob in half changes it");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -216,3 +216,39 @@ fn non_finite_rays_find_nothing_and_end() {
     let ray = Ray::new(Vec3::splat(f32::INFINITY), Vec3::NEG_Z);
     assert!(bvh.intersect(&ray, 0.0, f32::INFINITY).0.is_none());
 }
+
+#[test]
+fn crossings_cover_the_whole_line() {
+    // A closed cube of 12 triangles, and a ray from inside it.
+    let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+    let c = [
+        v(-1., -1., -1.),
+        v(1., -1., -1.),
+        v(1., 1., -1.),
+        v(-1., 1., -1.),
+        v(-1., -1., 1.),
+        v(1., -1., 1.),
+        v(1., 1., 1.),
+        v(-1., 1., 1.),
+    ];
+    let quads =
+        [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [3, 7, 6, 2], [0, 4, 7, 3], [1, 2, 6, 5]];
+    let mut shapes = Vec::new();
+    for q in quads {
+        for (a, b, d) in [(q[0], q[1], q[2]), (q[0], q[2], q[3])] {
+            shapes.push(Shape::Triangle(Triangle {
+                p: [c[a], c[b], c[d]],
+                normals: [Triangle::FLAT; 3],
+                material: 0,
+            }));
+        }
+    }
+    let bvh = Bvh::build(&shapes);
+    for dir in [v(1., 0.3, 0.2), v(-0.2, 1., 0.1), v(0.3, -0.4, -1.)] {
+        let mut ts = Vec::new();
+        bvh.crossings(&Ray::new(Vec3::ZERO, dir), &mut |t, _| ts.push(t));
+        ts.sort_by(f32::total_cmp);
+        assert_eq!(ts.len(), 2, "{dir}: {ts:?}");
+        assert!(ts[0] < 0.0 && ts[1] > 0.0, "{dir}: {ts:?}");
+    }
+}
