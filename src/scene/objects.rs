@@ -97,7 +97,13 @@ pub struct Group {
     pub name: String,
     pub prims: Vec<Prim>,
     pub objects: Vec<ObjDef>,
+    /// How deep its instances nest (1: none inside).
+    pub depth: u32,
 }
+
+/// The deepest nesting of instances in instances (a ray goes down them
+/// recursively).
+pub const MAX_INSTANCE_DEPTH: u32 = 32;
 
 /// What a `group` script sets aside while it runs.
 #[derive(Clone, Debug)]
@@ -534,8 +540,16 @@ impl Builder {
                     "motion inside a group is not supported: give the instance its motion".into(),
                 ));
             }
+            let depth = 1 + objects
+                .iter()
+                .filter_map(|o| match o.kind {
+                    ObjKind::Instance(g) => Some(self.groups[g as usize].depth),
+                    _ => None,
+                })
+                .max()
+                .unwrap_or(0);
             crate::mem::room(&self.groups, 1)?;
-            self.groups.push(Group { name: saved.name, prims, objects });
+            self.groups.push(Group { name: saved.name, prims, objects, depth });
         }
         Ok(())
     }
@@ -553,6 +567,12 @@ impl Builder {
                 format!("no group named \"{name}\" (groups: {})", known.join(", "))
             }));
         };
+        if self.groups[g].depth >= MAX_INSTANCE_DEPTH {
+            return Err(invalid(format!(
+                "instances nested too deep: \"{name}\" holds instances {} deep (the limit is {MAX_INSTANCE_DEPTH})",
+                self.groups[g].depth
+            )));
+        }
         let to_world = self.placement(DAffine3::IDENTITY)?;
         self.add_object(ObjKind::Instance(g as u32), to_world)
     }

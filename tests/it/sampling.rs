@@ -460,7 +460,8 @@ pub fn motion_blur_streaks_by_velocity_times_shutter() {
 
 /// With the shutter closed at an instant, a moving object is exactly where
 /// its velocity puts it, shadow included: the picture of a still object
-/// placed there (up to the rounding of the moved ray's origin).
+/// placed there (up to the rounding of the moved ray's origin). Spheres,
+/// triangles, boxes and instances alike.
 pub fn moving_objects_are_where_the_shutter_says() {
     let dir = scratch("sampling-moved");
     let base = "camera_resolution 60 40; camera_from 0 3 6; camera_target 0 0.5 0\n\
@@ -470,7 +471,8 @@ pub fn moving_objects_are_where_the_shutter_says() {
                 tri [vertex -5 0 -5] [vertex 5 0 5] [vertex 5 0 -5]\n\
                 material 0.9 0.3 0.2 0.2 0.8 0.4 20 0 1\n";
     let moving = format!(
-        "{base}motion 0.5 0.25 0; sphere -1 0.7 0 0.6; tri [vertex 0 1 0] [vertex 1 1 0] [vertex 0 2 -1]\n"
+        "{base}motion 0.5 0.25 0; sphere -1 0.7 0 0.6; tri [vertex 0 1 0] [vertex 1 1 0] [vertex 0 2 -1]\n\
+         box 1 0 -2 1.5 0.5 -1.5; group g {{torus 0.3 0.1}}; transform {{translate -2 0.3 -1; instance g}}\n"
     );
     for (time, dx, dy) in [(0.0, 0.0, 0.0), (2.0, 1.0, 0.5)] {
         let seen = render(&dir, &[], &format!("{moving}shutter {time} {time}; render a.ppm"));
@@ -478,13 +480,19 @@ pub fn moving_objects_are_where_the_shutter_says() {
             &dir,
             &[],
             &format!(
-                "{base}sphere {} {} 0 0.6; tri [vertex {dx} {} 0] [vertex {} {} 0] [vertex {dx} {} -1]; render b.ppm",
+                "{base}sphere {} {} 0 0.6; tri [vertex {dx} {} 0] [vertex {} {} 0] [vertex {dx} {} -1]\n\
+                 box {} {dy} -2 {} {} -1.5; group g {{torus 0.3 0.1}}; transform {{translate {} {} -1; instance g}}; render b.ppm",
                 -1.0 + dx,
                 0.7 + dy,
                 1.0 + dy,
                 1.0 + dx,
                 1.0 + dy,
-                2.0 + dy
+                2.0 + dy,
+                1.0 + dx,
+                1.5 + dx,
+                0.5 + dy,
+                -2.0 + dx,
+                0.3 + dy
             ),
         );
         let differ = seen.rgb.iter().zip(&still.rgb).filter(|(a, b)| a.abs_diff(**b) > 2).count();

@@ -210,6 +210,10 @@ pub fn bad_structure_is_a_located_error() {
         ("instance tree", "no group named \"tree\""),
         ("group a {sphere 0 0 0 1}; instance b", "no group named \"b\" (groups: a)"),
         ("proc f {} {transform {f}}; f", "too many nested"),
+        (
+            "group g0 {sphere 0 0 0 1}; for {set i 1} {$i < 40} {incr i} {group g$i [list instance g[expr {$i - 1}]]}",
+            "instances nested too deep: \"g31\" holds instances 32 deep (the limit is 32)",
+        ),
     ] {
         let r = raytrace().args(["-c", script]).output().unwrap();
         assert_eq!(r.status.code(), Some(1), "{script}");
