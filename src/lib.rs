@@ -10,9 +10,14 @@
 //! - `interp`: a Tcl 8.6-compatible interpreter: `parser` (Script, Command,
 //!   Word), `value` (Value), `eval` (Interp), `stream` (whole files, the
 //!   scanner thread), `expr`, `builtins`. It knows nothing about graphics.
-//! - `geometry`: rays, boxes, spheres, watertight triangles, the 4-wide BVH
-//!   whose leaves hold blocks of four primitives tested in SIMD lanes.
-//! - `scene`: `Builder` (mutable, checked, double precision), `Scene`
+//! - `geometry`: rays (with a time), boxes, spheres, watertight triangles,
+//!   the 4-wide BVH whose leaves hold blocks of four primitives tested in
+//!   SIMD lanes, and objects, leaves of their own kind (`object`): placed
+//!   analytic solids (`solid`, with `poly`'s root finder for the torus),
+//!   CSG by intervals (`csg`), blobs (`blob`), lazily generated fractals
+//!   (`fractal`), and trees of their own (instances, moving primitives).
+//! - `scene`: `Builder` (mutable, checked, double precision; its transform
+//!   stack, CSG, blobs and groups in `objects`), `Scene`
 //!   (frozen, single precision relative to the eye: one BVH over the still
 //!   primitives and one per velocity of moving ones, walked by rays moved
 //!   back to time 0), camera, lights, materials, sampling settings.
@@ -27,8 +32,10 @@
 //!   growth, `grew_past` after each command. A leaf every layer may use.
 //! - `shell`: the glue and the only module that touches files, the terminal,
 //!   signals, the environment and exit codes: arguments, the REPL (with
-//!   completion), the scene commands (`commands`) and their documentation
-//!   (`docs`, also the README's table), OBJ loading (plain or gzip), atomic
+//!   completion), the scene commands (`commands`, `structure` for shapes,
+//!   transforms, CSG and groups) and their documentation
+//!   (`docs`, also the README's table), OBJ loading (plain or gzip), NFF
+//!   scenes (`nff`), atomic
 //!   files, statistics and the last picture (`stats`), progress bars, ETA
 //!   and Ctrl-C (`feedback`), the preview window (`preview`), pictures in
 //!   the terminal (`term`), animation batches, merges and movies (`frames`).
@@ -53,6 +60,11 @@
 //!   scene first wins: coplanar surfaces resolve the same way for any tree
 //!   (still or moving), walk order, lane or thread count.
 //! - A ray carries its time; every ray spawned from it keeps it.
+//! - An object is entered by its inverse transform with the direction left
+//!   unnormalized, so a hit's `t` is the same in every coordinate system;
+//!   normals leave by the inverse transpose.
+//! - Nothing recurses without a bound at render time: instances nest at
+//!   most 32 deep, fractals 10, CSG and `push` 1,000.
 //! - An image reaches its final name only whole (`shell::AtomicFile`).
 //! - No input makes the program abort or run the machine out of memory:
 //!   growth that could pass the budget (`mem`) is refused as an error, and
