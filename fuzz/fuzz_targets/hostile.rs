@@ -11,7 +11,7 @@ use std::time::Duration;
 use libfuzzer_sys::fuzz_target;
 use rayshell::shell::{CaptureHost, INTERRUPTED, Session};
 
-const PRELUDES: [&str; 10] = [
+const PRELUDES: [&str; 12] = [
     "",
     // Ks + T > 1 at depth 64 through glass: the ray tree doubles per bounce.
     "trace_depth 64; material 1 1 1 0 0 0.5 1 1 1.5\n\
@@ -37,6 +37,16 @@ const PRELUDES: [&str; 10] = [
     // Lights with a size, tiny and huge, inside a sphere light.
     "area_light 5 5 5 -1 3 -1 2 0 0 0 0 2 8; sphere_light 1 1 1 0 0 -4 2 3\n\
      area_light 1 1 1 0 0 0 1e-18 0 0 0 1e-18 0 1; sphere 0 0 -4 1",
+    // Shapes at the extremes: a huge and a tiny torus, a needle cone, deep
+    // fractals, a nearly singular transform, CSG of them, moving.
+    "motion 1e3 0 0; shutter 0 1; torus 1e30 1e29; torus 1e-30 1e-31\n\
+     cone 0 0 -5 1e-20 0 0 -4 0; transform { scale 1e-20 1 1; box -1 -1 -6 1 1 -5 }\n\
+     sphereflake 0 0 -4 1 10; menger 2 0 -6 1 10; plane 0 1 0 -1e30\n\
+     csg difference { torus 1 0.5; blob 0.1 { blob_sphere 0 0 0 1e10 1 } }",
+    // Instances of instances, transformed and moving.
+    "group a { sphere 0 0 0 1; disk 0 0 0 0 1 0 2 1 }\n\
+     for {set i 0} {$i < 31} {incr i} { group a [list transform {rotate 10 20 30; instance a}] }\n\
+     motion 0 1 0; shutter 0 1e9; instance a",
 ];
 
 fuzz_target!(|data: &[u8]| {
