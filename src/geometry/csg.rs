@@ -225,6 +225,7 @@ impl Csg {
             material: leaf.material,
             uv: [0.0; 2],
             to_local: leaf.place.at(ray.time),
+            level: None,
         }
     }
 }

@@ -116,6 +116,9 @@ pub struct Located {
     /// World to the primitive's coordinates at the ray's time (composed
     /// over every level); `None`: the same.
     pub to_local: Option<Affine3A>,
+    /// World to the coordinates of the group the primitive was written in
+    /// (where its texture is evaluated); `None`: it is in no instance.
+    pub level: Option<Affine3A>,
 }
 
 /// The primitive a hit resolves to, in its own coordinates.
@@ -136,10 +139,11 @@ impl Located {
     /// `self` as seen from one level up, through `place` at `time`.
     fn within(mut self, place: &Place, time: f32) -> Located {
         if let Some(m) = place.at(time) {
-            self.to_local = Some(match self.to_local {
-                None => m,
-                Some(inner) => inner * m,
-            });
+            let compose = |inner: Option<Affine3A>| Some(inner.map_or(m, |i| i * m));
+            self.to_local = compose(self.to_local);
+            if self.level.is_some() {
+                self.level = compose(self.level);
+            }
         }
         self
     }
@@ -261,15 +265,25 @@ impl Object {
                     material: *material,
                     uv,
                     to_local: None,
+                    level: None,
                 }
             }
-            Kind::Tree(tree) => tree.locate_again(&local, t, sub, uv),
+            Kind::Tree(tree) => {
+                // An instance's group is a level of its own (a moving
+                // group of primitives stays in its parent's).
+                let mut found = tree.locate_again(&local, t, sub, uv);
+                if self.place.to_local.is_some() {
+                    found.level = Some(found.level.unwrap_or(Affine3A::IDENTITY));
+                }
+                found
+            }
             Kind::Csg(c) => c.locate(&local, t, sub),
             Kind::Blob { blob, material } => Located {
                 local: Local::Solid { normal: blob.normal(local.at(t)) },
                 material: *material,
                 uv,
                 to_local: None,
+                level: None,
             },
             Kind::Flake { flake, material } => {
                 // The sphere hit: asked again around t.
@@ -282,6 +296,7 @@ impl Object {
                     material: *material,
                     uv,
                     to_local: None,
+                    level: None,
                 }
             }
             Kind::Menger { material, .. } => {
@@ -291,6 +306,7 @@ impl Object {
                     material: *material,
                     uv,
                     to_local: None,
+                    level: None,
                 }
             }
         };

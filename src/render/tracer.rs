@@ -26,8 +26,7 @@ use super::job::{Job, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
 use crate::geometry::{Hit, Local, Located, Ray, Triangle, intersect_brute};
 use crate::image::Image;
-use crate::scene::Material;
-use crate::scene::Scene;
+use crate::scene::{Highlight, Material, Scene, texture};
 
 /// Mixed into a batch's key for its pattern of times.
 const TIME: u64 = 0x7469_6d65;
@@ -568,8 +567,11 @@ fn shade(
     let eps = offset(p, ray.origin);
     let above = p + ng * eps;
     let view = -d;
+    let look = Look::at(scene, m, &at, p, ns, front);
+    let ns = look.normal;
+    let colour = look.colour;
 
-    let mut color = m.ka * scene.ambient * m.color;
+    let mut color = m.ka * scene.ambient * colour;
     let lifted = shadow_from != p;
     let shadow_origin =
         if lifted { shadow_from + ng * offset(shadow_from, ray.origin) } else { above };
@@ -609,13 +611,9 @@ fn shade(
             if through == Vec3::ZERO {
                 continue;
             }
-            let mut c = m.kd * m.color * li * n_dot_l;
+            let mut c = m.kd * colour * li * n_dot_l;
             if m.ks > 0.0 {
-                let r = reflect(-l, ns);
-                let r_dot_v = r.dot(view).max(0.0);
-                if r_dot_v > 0.0 {
-                    c += m.ks * li * r_dot_v.powf(m.ns);
-                }
+                c += m.ks * li * highlight(m, &look, l, view, n_dot_l);
             }
             color += through * c;
         }
@@ -655,6 +653,80 @@ fn shade(
         }
     }
     color
+}
+
+/// What the material looks like at a shading point: its colour (the
+/// texture's, in the coordinates the object was written in), its shading
+/// normal (bumped), and the tangent of anisotropic highlights.
+struct Look {
+    colour: Vec3,
+    normal: Vec3,
+    /// The surface's u direction: the object's x axis, as written, laid
+    /// onto the surface (its z axis where x is normal to it).
+    tangent: Vec3,
+}
+
+impl Look {
+    fn at(scene: &Scene, m: &Material, at: &Located, p: Vec3, ns: Vec3, front: bool) -> Look {
+        let plain = m.texture.is_none()
+            && m.bump.is_none()
+            && !matches!(m.highlight, Highlight::Ward { .. });
+        if plain {
+            return Look { colour: m.color, normal: ns, tangent: Vec3::ZERO };
+        }
+        // World to texture coordinates: through the group the object was
+        // written in (or back from the eye), then its own inverse transform.
+        let level = at.level.unwrap_or(glam::Affine3A::from_translation(scene.origin));
+        let to_tex = m.to_texture.map_or(level, |t| t * level);
+        let q = to_tex.transform_point3(p);
+        let colour = m.texture.map_or(m.color, |t| t.at(q));
+        // Gradients and axes come back by the transpose and the inverse.
+        let normal = match m.bump {
+            None => ns,
+            Some(b) => {
+                let g = texture::noise_gradient(q / b.size) * (b.amount / b.size);
+                let g = (to_tex.matrix3.transpose() * glam::Vec3A::from(g)).into();
+                let along: Vec3 = g - ns * ns.dot(g);
+                let side = if front { 1.0 } else { -1.0 };
+                (ns - side * along).try_normalize().unwrap_or(ns)
+            }
+        };
+        let axis = |a: Vec3| {
+            let w: Vec3 = (to_tex.matrix3.inverse() * glam::Vec3A::from(a)).into();
+            (w - normal * normal.dot(w)).try_normalize()
+        };
+        let tangent = axis(Vec3::X).or_else(|| axis(Vec3::Z)).unwrap_or(Vec3::ZERO);
+        Look { colour, normal, tangent }
+    }
+}
+
+/// The specular term per unit of light and of Ks, for light from `l` seen
+/// along `view` (unit vectors; `n_dot_l` > 0): Phong's (R·V)^n, Blinn's
+/// (N·H)^n, or Ward's anisotropic lobe π·f·cosθi with
+/// f = 1/(4π·ax·ay·√(cosθi·cosθo))·exp(−((H·u/ax)² + (H·v/ay)²)/(H·N)²).
+fn highlight(m: &Material, look: &Look, l: Vec3, view: Vec3, n_dot_l: f32) -> f32 {
+    let n = look.normal;
+    match m.highlight {
+        Highlight::Phong => {
+            let r_dot_v = reflect(-l, n).dot(view);
+            if r_dot_v > 0.0 { r_dot_v.powf(m.ns) } else { 0.0 }
+        }
+        Highlight::Blinn => {
+            let n_dot_h = n.dot((l + view).normalize());
+            if n_dot_h > 0.0 { n_dot_h.powf(m.ns) } else { 0.0 }
+        }
+        Highlight::Ward { ax, ay } => {
+            let n_dot_v = n.dot(view);
+            if n_dot_v <= 0.0 {
+                return 0.0;
+            }
+            let h = (l + view).normalize();
+            let (u, v) = (look.tangent, n.cross(look.tangent));
+            let (hu, hv, hn) = (h.dot(u) / ax, h.dot(v) / ay, h.dot(n));
+            let e = (-(hu * hu + hv * hv) / (hn * hn)).exp();
+            n_dot_l * e / (4.0 * ax * ay * (n_dot_l * n_dot_v).sqrt())
+        }
+    }
 }
 
 /// How much of the light a transmitting surface lets through at each

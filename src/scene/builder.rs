@@ -7,9 +7,10 @@ use glam::{DAffine3, DVec3, Vec3};
 
 use super::camera::Camera;
 use super::light::Light;
-use super::material::Material;
+use super::material::{Bump, Highlight, Material};
 use super::objects::{BlobFrame, CsgFrame, CsgLeafDef, Group, ObjDef, Saved};
 use super::sampling::Sampling;
+use super::texture::Texture;
 use crate::geometry::{Shape, Triangle};
 
 /// The largest image, in pixels (64 Mpixel: 768 MiB of f32 RGB, and 192 MiB
@@ -103,6 +104,14 @@ pub enum Prim {
     },
 }
 
+/// The look state objects take with their material.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Look {
+    pub texture: Option<Texture>,
+    pub highlight: Highlight,
+    pub bump: Option<Bump>,
+}
+
 /// Where the camera looks: at a point, or along a direction.
 #[derive(Clone, Copy, Debug)]
 pub enum Aim {
@@ -144,6 +153,10 @@ pub struct Builder {
     pub building: Vec<Saved>,
     /// The blob being made.
     pub blob: Option<BlobFrame>,
+    /// The last `material` command's entry, and the state of `texture`,
+    /// `highlight` and `bump` that objects made now take with it.
+    pub base_material: usize,
+    pub look: Look,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub ambient: Vec3,
@@ -186,6 +199,8 @@ impl Default for Builder {
             groups: Vec::new(),
             building: Vec::new(),
             blob: None,
+            base_material: 0,
+            look: Look::default(),
             materials: vec![Material::default()],
             lights: Vec::new(),
             ambient: Vec3::ZERO,
@@ -244,8 +259,39 @@ impl Builder {
         Builder::default()
     }
 
-    pub(super) fn material_index(&self) -> u32 {
-        (self.materials.len() - 1) as u32
+    /// The material of an object made now: the last `material`, with the
+    /// current `texture`, `highlight` and `bump`, and (for textures and
+    /// bumps) the inverse of the current transform, so the pattern moves
+    /// with the object. A new entry only when that differs from the last.
+    pub(super) fn material_index(&mut self) -> Result<u32, SceneError> {
+        let base = self.materials[self.base_material];
+        let look = self.look;
+        let patterned = look.texture.is_some() || look.bump.is_some();
+        let to_texture = if patterned {
+            self.placed().map(|m| {
+                let m = m.inverse();
+                glam::Affine3A::from_mat3_translation(m.matrix3.as_mat3(), m.translation.as_vec3())
+            })
+        } else {
+            None
+        };
+        let want = Material {
+            texture: look.texture,
+            to_texture,
+            highlight: look.highlight,
+            bump: look.bump,
+            ..base
+        };
+        let last = self.materials.len() - 1;
+        if self.materials[last] == want {
+            return Ok(last as u32);
+        }
+        if self.materials.len() >= u32::MAX as usize {
+            return Err(SceneError::Capacity { what: "materials" });
+        }
+        crate::mem::room(&self.materials, 1)?;
+        self.materials.push(want);
+        Ok(last as u32 + 1)
     }
 
     // -- Camera ---------------------------------------------------------------
@@ -427,7 +473,7 @@ impl Builder {
         if self.in_csg() {
             return Err(SceneError::Invalid("csg takes closed solids only, not triangles".into()));
         }
-        let material = self.material_index();
+        let material = self.material_index()?;
         let prim = match self.placed() {
             None => Prim::Tri { v, n: n.unwrap_or([Triangle::FLAT; 3]), material },
             Some(_) => self.placed_tri(v, n, material)?,
@@ -507,7 +553,8 @@ impl Builder {
         };
         let (center, radius) = (position(center)?, radius.min(f32::MAX as f64));
         crate::mem::room(&self.prims, 1)?;
-        self.prims.push(Prim::Sphere { center, radius, material: self.material_index() });
+        let material = self.material_index()?;
+        self.prims.push(Prim::Sphere { center, radius, material });
         Ok(())
     }
 
@@ -579,7 +626,7 @@ impl Builder {
             Some(mesh.tris.iter().map(|t| t.map(|i| base + i)).collect())
         };
         let vbase = self.mesh_vertices.len() as u32;
-        let material = self.material_index();
+        let material = self.material_index()?;
         crate::mem::room(&self.prims, mesh.tris.len())?;
         crate::mem::room(&self.mesh_vertices, positions.len())?;
         self.prims.reserve(mesh.tris.len());
@@ -627,6 +674,40 @@ impl Builder {
         }
         crate::mem::room(&self.materials, 1)?;
         self.materials.push(m);
+        self.base_material = self.materials.len() - 1;
+        Ok(())
+    }
+
+    pub fn set_texture(&mut self, t: Option<Texture>) -> Result<(), SceneError> {
+        if let Some(t) = &t {
+            t.check()?;
+        }
+        self.look.texture = t;
+        Ok(())
+    }
+
+    pub fn set_highlight(&mut self, h: Highlight) -> Result<(), SceneError> {
+        if let Highlight::Ward { ax, ay } = h
+            && !(ax > 0.0 && ay > 0.0 && ax.is_finite() && ay.is_finite())
+        {
+            return Err(SceneError::Invalid(format!(
+                "ward roughness must be above 0, got {ax} and {ay}"
+            )));
+        }
+        self.look.highlight = h;
+        Ok(())
+    }
+
+    pub fn set_bump(&mut self, b: Option<Bump>) -> Result<(), SceneError> {
+        if let Some(b) = b
+            && !(b.amount.is_finite() && b.size > 0.0 && b.size.is_finite())
+        {
+            return Err(SceneError::Invalid(format!(
+                "bump needs a finite amount and a size above 0, got {} and {}",
+                b.amount, b.size
+            )));
+        }
+        self.look.bump = b;
         Ok(())
     }
 

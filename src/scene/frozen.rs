@@ -32,6 +32,9 @@ pub struct Scene {
     pub trace_depth: u32,
     pub sampling: super::Sampling,
     pub build_seconds: f64,
+    /// Where the eye is in the script's coordinates (the frozen scene's
+    /// origin), for textures.
+    pub origin: Vec3,
     /// Triangles skipped because they have no area.
     pub degenerate: usize,
 }
@@ -64,6 +67,7 @@ impl Scene {
             sampling: b.sampling,
             build_seconds,
             degenerate,
+            origin: b.from.as_vec3(),
         })
     }
 

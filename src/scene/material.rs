@@ -1,8 +1,31 @@
-//! Materials: `material r g b Ka Kd Ks n_s T index_of_refraction`.
+//! Materials: `material r g b Ka Kd Ks n_s T index_of_refraction`, and
+//! the look that `texture`, `highlight` and `bump` add to them.
 
-use glam::Vec3;
+use glam::{Affine3A, Vec3};
 
 use super::builder::{SceneError, check_color};
+use super::texture::Texture;
+
+/// The specular model (`highlight`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Highlight {
+    /// Ks·(R·V)^n_s, as COS 426 (the default).
+    #[default]
+    Phong,
+    /// Ks·(N·H)^n_s, H halfway between the light and the eye.
+    Blinn,
+    /// Ward's anisotropic model: roughness `ax` along the surface's u
+    /// direction, `ay` across it; Ks is its ρs.
+    Ward { ax: f32, ay: f32 },
+}
+
+/// A bump map: the shading normal tilted by the gradient of
+/// amount·noise(p/size).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bump {
+    pub amount: f32,
+    pub size: f32,
+}
 
 /// The range `material` accepts for an index of refraction (0 aside).
 pub const MIN_IOR: f32 = 0.01;
@@ -17,12 +40,31 @@ pub struct Material {
     pub ns: f32,
     pub t: f32,
     pub ior: f32,
+    /// The colour's texture, if any, and the map from the coordinates the
+    /// object was written in to the texture's (the inverse of the
+    /// transform current when the object was made).
+    pub texture: Option<Texture>,
+    pub to_texture: Option<Affine3A>,
+    pub highlight: Highlight,
+    pub bump: Option<Bump>,
 }
 
 impl Default for Material {
     /// Matte white: ambient 0.2, diffuse 0.8, no specular, opaque.
     fn default() -> Material {
-        Material { color: Vec3::ONE, ka: 0.2, kd: 0.8, ks: 0.0, ns: 1.0, t: 0.0, ior: 1.0 }
+        Material {
+            color: Vec3::ONE,
+            ka: 0.2,
+            kd: 0.8,
+            ks: 0.0,
+            ns: 1.0,
+            t: 0.0,
+            ior: 1.0,
+            texture: None,
+            to_texture: None,
+            highlight: Highlight::Phong,
+            bump: None,
+        }
     }
 }
 

@@ -9,10 +9,12 @@ mod light;
 mod material;
 mod objects;
 mod sampling;
+pub mod texture;
 
 pub use builder::{Aim, Builder, MAX_PIXELS, MAX_TRACE_DEPTH, MeshData, SceneError};
 pub use camera::Camera;
 pub use frozen::Scene;
 pub use light::{Light, spot_factor};
-pub use material::Material;
+pub use material::{Bump, Highlight, Material};
 pub use sampling::{Filter, FilterKind, Sampling, Tonemap};
+pub use texture::{Pattern, Texture, noise, noise_gradient, pattern, turbulence};

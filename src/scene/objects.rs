@@ -227,7 +227,7 @@ impl Builder {
     /// the current transform).
     fn add_solid(&mut self, solid: Solid, local: DAffine3) -> Result<(), SceneError> {
         let to_world = self.placement(local)?;
-        let material = self.material_index();
+        let material = self.material_index()?;
         if self.in_csg() {
             if !solid.is_closed() {
                 return Err(invalid(
@@ -423,7 +423,7 @@ impl Builder {
             return Err(invalid("csg takes closed solids only, not sphereflakes".into()));
         }
         let to_world = self.placement(DAffine3::IDENTITY)?;
-        let material = self.material_index();
+        let material = self.material_index()?;
         let kind = ObjKind::Flake { center: c.as_vec3(), radius: r as f32, depth, material };
         self.add_object(kind, to_world)
     }
@@ -438,7 +438,7 @@ impl Builder {
             return Err(invalid("csg takes closed solids only, not sponges".into()));
         }
         let to_world = self.placement(DAffine3::IDENTITY)?;
-        let material = self.material_index();
+        let material = self.material_index()?;
         let kind = ObjKind::Menger { center: c.as_vec3(), size: size as f32, depth, material };
         self.add_object(kind, to_world)
     }
@@ -490,7 +490,7 @@ impl Builder {
         if !frame.comps.iter().any(|c| c.strength > 0.0) {
             return Err(invalid("a blob needs a blob_sphere of positive strength".into()));
         }
-        let material = self.material_index();
+        let material = self.material_index()?;
         let threshold = frame.threshold as f32;
         if self.in_csg() {
             let leaf = LeafDef::Blob { comps: frame.comps, threshold };

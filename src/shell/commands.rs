@@ -159,6 +159,7 @@ pub(super) fn numeric_opt(
 /// Registers the scene commands, sharing one builder and the shell state.
 pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState>>) {
     super::structure::register(interp, &scene);
+    super::surface::register(interp, &scene);
     let e = scene_err;
     numeric(interp, &scene, "camera_from", "x y z", "where the camera is", move |b, a| {
         b.camera_from(a.pos(0)?).map_err(e)?;
@@ -368,6 +369,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
                 ns: a.f32(6)?,
                 t: a.f32(7)?,
                 ior: a.f32(8)?,
+                ..Material::default()
             };
             b.set_material(m).map_err(e)?;
             Ok(None)

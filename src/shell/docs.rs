@@ -227,6 +227,24 @@ pub const SCENE: &[Doc] = &[
         example: "transform { translate 3 0 0; instance tree }",
     },
     Doc {
+        name: "texture",
+        meaning: "the colour pattern of the objects made after it (as `material` is, and replacing the material's colour in its ambient and diffuse terms): `checker r1 g1 b1 r2 g2 b2 ?size?` (POV-Ray's checker: colour 1 where ⌊x/size⌋+⌊y/size⌋+⌊z/size⌋ is even), or `noise`, `marble`, `wood`, `granite` with optional colours (from, to) and scale, from a Perlin gradient noise of our own and its turbulence; `none` goes back to the flat colour. Evaluated in the coordinates the object was written in, so it moves with the object's transform and its instances",
+        default: "none",
+        example: "texture marble 0.95 0.93 0.88 0.25 0.22 0.3 0.6",
+    },
+    Doc {
+        name: "highlight",
+        meaning: "the specular model of the materials that follow: `phong` (Ks·(R·V)^n_s, COS 426's), `blinn` (Ks·(N·H)^n_s), or `ward ax ay`, Ward's anisotropic lobe with roughness ax along the surface's u direction (the object's x axis, as written, laid onto the surface) and ay across it; Ks is its ρs and n_s is unused",
+        default: "phong",
+        example: "highlight ward 0.1 0.4",
+    },
+    Doc {
+        name: "bump",
+        meaning: "`noise amount ?size?` tilts the shading normals of the objects that follow by the gradient of amount·noise(p/size) (the geometry is unchanged; evaluated as textures are); `none` stops",
+        default: "none",
+        example: "bump noise 0.2 0.1",
+    },
+    Doc {
         name: "max_vertices",
         meaning: "a capacity hint for the vertex pool; using more is still correct",
         default: "",

@@ -37,6 +37,7 @@ mod preview;
 pub mod repl;
 mod stats;
 mod structure;
+mod surface;
 mod term;
 
 use std::cell::RefCell;

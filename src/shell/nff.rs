@@ -145,6 +145,7 @@ pub fn load(b: &mut Builder, name: &str, reader: impl BufRead) -> Result<Counts,
                         ns: shine as f32,
                         t: t as f32,
                         ior: if t > 0.0 && ior == 0.0 { 1.0 } else { ior as f32 },
+                        ..Material::default()
                     };
                     b.set_material(m).map_err(scene)?;
                 }

@@ -16,6 +16,7 @@ mod readme;
 mod render;
 mod sampling;
 mod shapes;
+mod surfaces;
 mod tidy;
 mod util;
 
@@ -80,6 +81,10 @@ fn main() {
         shapes::sphereflakes_match_their_spheres,
         shapes::sponges_match_their_boxes,
         shapes::blobs_and_closed_meshes_join_csg,
+        surfaces::checkers_follow_their_parity_and_their_object,
+        surfaces::bumps_shade_by_the_perturbed_normal,
+        surfaces::blinn_and_ward_highlights_follow_their_formulas,
+        surfaces::bad_surfaces_are_located_errors,
         bad::the_corpus_is_big_enough,
         bad::every_bad_input_exits_with_a_located_message,
         bad::the_repl_survives_every_bad_input,

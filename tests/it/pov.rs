@@ -1,6 +1,7 @@
 //! POV-Ray 3.7 as the outside oracle for refraction and for the shapes of
 //! issue "shapes" (`shapes`: plane, box, cylinder, cone, disc, torus, blob;
-//! `csg`: union, intersection, difference, merge): each `tests/pov/NAME.tsd`
+//! `csg`: union, intersection, difference, merge; and issue "surfaces":
+//! `checker`, the checker texture): each `tests/pov/NAME.tsd`
 //! has a `NAME.pov` built to the same conventions (glass as `rgbf` filter,
 //! `interior { ior }`, no ambient or diffuse on glass, the same trace depth
 //! and cut-off), and the two pictures must agree: at most 1 % of the pixels
@@ -104,7 +105,7 @@ pub fn shapes_and_csg_match_povray() {
     }
     let dir = scratch("pov-shapes");
     let mut report = Vec::new();
-    for name in ["shapes", "csg"] {
+    for name in ["shapes", "csg", "checker"] {
         let (n, share) = compare(&ours(&dir, name, ""), &theirs(&dir, name));
         report.push(format!("{name}: {n} pixels ({:.2} %) off by more than 2/255", share * 100.0));
         assert!(share <= 0.01, "{}", report.join("\n"));

@@ -1,0 +1,122 @@
+//! The scene commands of surfaces: `texture`, `highlight` and `bump`,
+//! state taken by the objects made after them, as `material` is.
+
+use glam::Vec3;
+
+use crate::interp::{Exception, Interp, Value, check_args};
+use crate::scene::{Bump, Highlight, Pattern, Texture};
+
+use super::commands::{Shared, finite_arg, scene_err};
+
+/// Words `from..` as numbers, each named in errors as `cmd: what`.
+fn numbers(argv: &[Value], from: usize, what: &str) -> Result<Vec<f32>, Exception> {
+    argv[from..].iter().map(|v| finite_arg(v, what).map(|x| x as f32)).collect()
+}
+
+/// Registers the commands.
+pub fn register(interp: &mut Interp, scene: &Shared) {
+    let s = scene.clone();
+    let usage = "none | checker r1 g1 b1 r2 g2 b2 ?size? | noise|marble|wood|granite ?r1 g1 b1 r2 g2 b2? ?scale?";
+    interp.register_host(
+        "texture",
+        usage,
+        "the colour pattern of the objects that follow, in the coordinates they are written in",
+        move |_, argv| {
+            check_args(argv, 2, 9, usage)?;
+            let kind = argv[1].as_str();
+            if kind == "image" {
+                return Err(Exception::error(
+                    "texture image is not built yet (issue \"surfaces\" continues)",
+                ));
+            }
+            let n = numbers(argv, 2, &format!("texture {kind}"))?;
+            let colours = |n: &[f32]| (Vec3::new(n[0], n[1], n[2]), Vec3::new(n[3], n[4], n[5]));
+            let t = match kind {
+                "none" if n.is_empty() => None,
+                "checker" if n.len() == 6 || n.len() == 7 => {
+                    let (a, b) = colours(&n);
+                    Some(Texture::Checker { a, b, size: n.get(6).copied().unwrap_or(1.0) })
+                }
+                "none" | "checker" => return Err(Exception::wrong_args(usage)),
+                k => {
+                    let Some(p) = Pattern::parse(k) else {
+                        return Err(Exception::error(format!(
+                            "bad texture \"{k}\": must be {}",
+                            Pattern::NAMES
+                        )));
+                    };
+                    if !matches!(n.len(), 0 | 1 | 6 | 7) {
+                        return Err(Exception::wrong_args(usage));
+                    }
+                    let (a, b) = if n.len() >= 6 { colours(&n) } else { p.colours() };
+                    let scale = if n.len() % 2 == 1 { n[n.len() - 1] } else { 1.0 };
+                    Some(Texture::Pattern { kind: p, a, b, scale })
+                }
+            };
+            let mut b = s.borrow_mut();
+            b.generation += 1;
+            b.set_texture(t).map_err(scene_err)?;
+            Ok(Value::empty())
+        },
+    );
+    let s = scene.clone();
+    interp.register_host(
+        "highlight",
+        "phong|blinn|ward ?ax ay?",
+        "the specular model of the objects that follow",
+        move |_, argv| {
+            check_args(argv, 2, 4, "phong|blinn|ward ?ax ay?")?;
+            let n = numbers(argv, 2, "highlight ward")?;
+            let h = match (argv[1].as_str(), n.len()) {
+                ("phong", 0) => Highlight::Phong,
+                ("blinn", 0) => Highlight::Blinn,
+                ("ward", 2) => Highlight::Ward { ax: n[0], ay: n[1] },
+                ("phong" | "blinn" | "ward", _) => {
+                    return Err(Exception::wrong_args("phong|blinn|ward ?ax ay?"));
+                }
+                (k, _) => {
+                    return Err(Exception::error(format!(
+                        "bad highlight \"{k}\": must be phong, blinn or ward"
+                    )));
+                }
+            };
+            let mut b = s.borrow_mut();
+            b.generation += 1;
+            b.set_highlight(h).map_err(scene_err)?;
+            Ok(Value::empty())
+        },
+    );
+    let s = scene.clone();
+    interp.register_host(
+        "bump",
+        "none | noise amount ?size?",
+        "tilt the shading normals of the objects that follow by a noise's gradient",
+        move |_, argv| {
+            check_args(argv, 2, 5, "none | noise amount ?size?")?;
+            if argv[1].as_str() == "image" {
+                return Err(Exception::error(
+                    "bump image is not built yet (issue \"surfaces\" continues)",
+                ));
+            }
+            let n = numbers(argv, 2, "bump noise")?;
+            let bump = match (argv[1].as_str(), n.len()) {
+                ("none", 0) => None,
+                ("noise", 1 | 2) => {
+                    Some(Bump { amount: n[0], size: n.get(1).copied().unwrap_or(1.0) })
+                }
+                ("none" | "noise", _) => {
+                    return Err(Exception::wrong_args("none | noise amount ?size?"));
+                }
+                (k, _) => {
+                    return Err(Exception::error(format!(
+                        "bad bump \"{k}\": must be noise or none"
+                    )));
+                }
+            };
+            let mut b = s.borrow_mut();
+            b.generation += 1;
+            b.set_bump(bump).map_err(scene_err)?;
+            Ok(Value::empty())
+        },
+    );
+}

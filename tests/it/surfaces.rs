@@ -1,0 +1,196 @@
+//! Surfaces (issue "surfaces"): textures at known points, a bumped plane's
+//! shading against its perturbed normal, and Blinn's and Ward's highlights
+//! against their closed forms, pixel by pixel.
+
+use crate::util::{raytrace, scratch, text};
+
+fn render(dir: &std::path::Path, script: &str) -> rayshell::image::Rgb8 {
+    let r = raytrace().args(["-q", "-c", script]).current_dir(dir).output().unwrap();
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let out = script.rsplit(' ').next().unwrap();
+    rayshell::image::read_rgb8(&std::fs::read(dir.join(out)).unwrap()).unwrap()
+}
+
+/// A camera straight above the floor (y = 0) at height `h`, looking down
+/// with +x to the right and −z up the picture, `w` pixels across `2·half`
+/// units: the floor point under pixel (i, j)'s centre.
+fn under(i: u32, j: u32, w: u32, half: f64) -> (f64, f64) {
+    let x = ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * half;
+    let z = ((j as f64 + 0.5) / w as f64 * 2.0 - 1.0) * half;
+    (x, z)
+}
+
+fn top_view(w: u32, h: f64, half: f64) -> String {
+    let angle = 2.0 * (half / h).atan().to_degrees();
+    format!(
+        "camera_resolution {w} {w}; camera_angle {angle}; camera_from 0 {h} 0; camera_target 0 0 0; camera_up 0 0 -1\n"
+    )
+}
+
+/// `texture checker` on a plane seen from above: each pixel has the colour
+/// of its centre's parity, ⌊x/s⌋ + ⌊y/s⌋ + ⌊z/s⌋, and moving the plane
+/// with `translate` moves the pattern with it.
+pub fn checkers_follow_their_parity_and_their_object() {
+    let dir = scratch("surfaces-checker");
+    let (w, h, half, s) = (64u32, 100.0, 2.0, 0.37);
+    let head = format!("{}ambient_light 1 1 1\n", top_view(w, h, half));
+    let flat = "material 1 1 1 1 0 0 1 0 1";
+    let img = render(
+        &dir,
+        &format!("{head}texture checker 1 0 0 0 0 1 {s}; {flat}; plane 0 1 0 -0.1; render a.ppm"),
+    );
+    let moved = render(
+        &dir,
+        &format!(
+            "{head}texture checker 1 0 0 0 0 1 {s}; {flat}; transform {{translate 0.2 0 0; plane 0 1 0 -0.1}}; render b.ppm"
+        ),
+    );
+    let parity = |x: f64, y: f64, z: f64| {
+        ((x / s).floor() + (y / s).floor() + (z / s).floor()) as i64 % 2 == 0
+    };
+    let mut checked = 0;
+    for j in 0..w {
+        for i in 0..w {
+            let (x, z) = under(i, j, w, half);
+            // Skip pixel centres right at a cell's edge.
+            let near = |v: f64| ((v / s) - (v / s).round()).abs() * s < 0.01;
+            if near(x) || near(z) || near(x - 0.2) {
+                continue;
+            }
+            let at = ((j * w + i) * 3) as usize;
+            let red = |img: &rayshell::image::Rgb8| img.rgb[at] > 128;
+            // (The camera sees the plane y = -0.1 at floor point (x, z).)
+            let (x, z) = (x * (h + 0.1) / h, z * (h + 0.1) / h);
+            assert_eq!(red(&img), parity(x, -0.1, z), "pixel {i},{j}");
+            assert_eq!(red(&moved), parity(x - 0.2, -0.1, z), "moved: pixel {i},{j}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 1500, "{checked}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A bumped plane lit head-on: each pixel is Kd·I·(n′·l) with n′ the
+/// normal tilted by the height's gradient, here amount·noise(p/size):
+/// n′ ∝ (−∂h/∂x, 1, −∂h/∂z) for the floor, so the pixel is 1/√(1 + |∇h|²).
+pub fn bumps_shade_by_the_perturbed_normal() {
+    let dir = scratch("surfaces-bump");
+    let (w, h, half, amount, size) = (64u32, 100.0, 2.0, 0.3f32, 0.5f32);
+    let img = render(
+        &dir,
+        &format!(
+            "{}parallel_light 1 1 1 0 -1 0; bump noise {amount} {size}; material 1 1 1 0 1 0 1 0 1\n\
+             plane 0 1 0 0; render a.ppm",
+            top_view(w, h, half)
+        ),
+    );
+    let mut worst = 0.0f64;
+    let mut tilted = 0;
+    for j in 0..w {
+        for i in 0..w {
+            let (x, z) = under(i, j, w, half);
+            let q = glam::Vec3::new(x as f32, 0.0, z as f32);
+            let g = rayshell::scene::noise_gradient(q / size) * (amount / size);
+            let want = 1.0 / (1.0 + (g.x * g.x + g.z * g.z) as f64).sqrt();
+            let got = img.rgb[((j * w + i) * 3) as usize] as f64 / 255.0;
+            worst = worst.max((got - want).abs());
+            tilted += (want < 0.97) as usize;
+        }
+    }
+    assert!(tilted > 200, "the bumps barely tilt: {tilted}");
+    assert!(worst <= 2.0 / 255.0, "a pixel is {worst} off");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Highlights on the floor under a point light, seen from above, against
+/// their closed forms (Ks·I/d²·term, Kd = 0): Blinn's (N·H)^n, and Ward's
+/// cosθi·exp(−((H·u/ax)² + (H·v/ay)²)/(H·N)²)/(4·ax·ay·√(cosθi·cosθo)),
+/// u = +x (the plane's own x axis), v = N × u; isotropic when ax = ay.
+pub fn blinn_and_ward_highlights_follow_their_formulas() {
+    let dir = scratch("surfaces-highlight");
+    let (w, h, half) = (64u32, 100.0f64, 2.0f64);
+    let (lx, ly, lz, li) = (0.4f64, 1.5f64, -0.3f64, 0.6f64);
+    let cases: [(&str, f64, f64, f64); 3] = [
+        ("blinn", 40.0, 0.0, 0.0),
+        ("ward 0.25 0.25", 1.0, 0.25, 0.25),
+        ("ward 0.1 0.4", 1.0, 0.1, 0.4),
+    ];
+    for (model, ns, ax, ay) in cases {
+        let img = render(
+            &dir,
+            &format!(
+                "{}point_light {li} {li} {li} {lx} {ly} {lz}; highlight {model}\n\
+                 material 1 1 1 0 0 0.5 {ns} 0 1; plane 0 1 0 0; render a.ppm",
+                top_view(w, h, half)
+            ),
+        );
+        let mut worst = 0.0f64;
+        let mut lit = 0;
+        for j in 0..w {
+            for i in 0..w {
+                let (x, z) = under(i, j, w, half);
+                let p = [x, 0.0, z];
+                let norm = |v: [f64; 3]| {
+                    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                    [v[0] / l, v[1] / l, v[2] / l]
+                };
+                let to_light = [lx - p[0], ly, lz - p[2]];
+                let d2 = to_light.iter().map(|c| c * c).sum::<f64>();
+                let l = norm(to_light);
+                let v = norm([-p[0], h, -p[2]]);
+                let hv = norm([l[0] + v[0], l[1] + v[1], l[2] + v[2]]);
+                let term = if model == "blinn" {
+                    hv[1].powf(ns)
+                } else {
+                    // u = +x, v = N × u = (0, 0, −1).
+                    let (hu, hw) = (hv[0] / ax, -hv[2] / ay);
+                    let e = (-(hu * hu + hw * hw) / (hv[1] * hv[1])).exp();
+                    l[1] * e / (4.0 * ax * ay * (l[1] * v[1]).sqrt())
+                };
+                let want = (0.5 * li / d2 * term).min(1.0);
+                let got = img.rgb[((j * w + i) * 3) as usize] as f64 / 255.0;
+                worst = worst.max((got - want).abs());
+                lit += (want > 0.1) as usize;
+            }
+        }
+        assert!(lit > 20, "{model}: the highlight is too small to test ({lit} pixels)");
+        assert!(worst <= 2.0 / 255.0, "{model}: a pixel is {worst} off");
+    }
+    // Ward with ax = ay is round: the same across x as across z.
+    let img = render(
+        &dir,
+        &format!(
+            "{}point_light 0.6 0.6 0.6 0 1.5 0; highlight ward 0.3 0.3\n\
+             material 1 1 1 0 0 0.5 1 0 1; plane 0 1 0 0; render b.ppm",
+            top_view(w, h, half)
+        ),
+    );
+    let px = |i: u32, j: u32| img.rgb[((j * w + i) * 3) as usize] as i32;
+    for k in 0..20 {
+        let (a, b) = (px(32 + k, 32), px(32, 32 + k));
+        assert!((a - b).abs() <= 1, "offset {k}: {a} across x, {b} across z");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Bad surface commands are located errors.
+pub fn bad_surfaces_are_located_errors() {
+    for (script, msg) in [
+        (
+            "texture plaid",
+            "bad texture \"plaid\": must be checker, noise, marble, wood, granite or none",
+        ),
+        ("texture checker 1 0 0 0 0 1 0", "texture size must be above 0"),
+        ("texture marble 1 2", "wrong # args"),
+        ("texture image a.png planar", "texture image is not built yet"),
+        ("highlight ward 0 1", "ward roughness must be above 0"),
+        ("highlight toon", "bad highlight \"toon\": must be phong, blinn or ward"),
+        ("bump noise 1 0", "bump needs a finite amount and a size above 0"),
+        ("bump ripple 1", "bad bump \"ripple\": must be noise or none"),
+    ] {
+        let r = raytrace().args(["-c", script]).output().unwrap();
+        assert_eq!(r.status.code(), Some(1), "{script}");
+        let err = text(&r.stderr);
+        assert!(err.starts_with("-c:1: ") && err.contains(msg), "{script}: {err}");
+    }
+}
