@@ -264,6 +264,11 @@ impl Builder {
     /// bumps) the inverse of the current transform, so the pattern moves
     /// with the object. A new entry only when that differs from the last.
     pub(super) fn material_index(&mut self) -> Result<u32, SceneError> {
+        let last = self.materials.len() - 1;
+        if self.base_material == last && self.look == Look::default() {
+            // The common case: no texture, highlight or bump since `material`.
+            return Ok(last as u32);
+        }
         let base = self.materials[self.base_material];
         let look = self.look;
         let patterned = look.texture.is_some() || look.bump.is_some();
@@ -282,7 +287,6 @@ impl Builder {
             bump: look.bump,
             ..base
         };
-        let last = self.materials.len() - 1;
         if self.materials[last] == want {
             return Ok(last as u32);
         }
