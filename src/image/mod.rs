@@ -252,6 +252,54 @@ pub fn read_rgb8(data: &[u8]) -> Result<Rgb8, String> {
     Ok(Rgb8 { width, height, rgb: buf, placement, encoding })
 }
 
+/// Reads a texture: a PNG of any 8- or 16-bit colour type (grey, grey and
+/// alpha, RGB, RGBA; alpha is ignored) or a binary PPM, as linear values:
+/// a PNG is decoded from sRGB unless it says it is linear (gAMA 1.0); a
+/// PPM is linear (the pictures this program writes are).
+pub fn read_texture(data: &[u8]) -> Result<(u32, u32, Vec<glam::Vec3>), String> {
+    if data.starts_with(b"P6") {
+        let (w, h, rgb) = read_ppm(data).ok_or("not a P6 PPM with maxval 255")?;
+        let px =
+            rgb.chunks(3).map(|c| glam::Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) / 255.0);
+        return Ok((w, h, px.collect()));
+    }
+    let mut decoder = png::Decoder::new(io::Cursor::new(data));
+    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = decoder.read_info().map_err(|e| format!("not a PNG or PPM: {e}"))?;
+    let linear = reader.info().srgb.is_none()
+        && reader.info().gama_chunk.is_some_and(|g| g == png::ScaledFloat::new(1.0));
+    let mut buf = vec![0; reader.output_buffer_size().ok_or("PNG too large")?];
+    let frame = reader.next_frame(&mut buf).map_err(|e| format!("bad PNG: {e}"))?;
+    let channels = match frame.color_type {
+        png::ColorType::Grayscale => 1,
+        png::ColorType::GrayscaleAlpha => 2,
+        png::ColorType::Rgb => 3,
+        png::ColorType::Rgba => 4,
+        png::ColorType::Indexed => return Err("an indexed PNG that did not expand".into()),
+    };
+    let decode = |b: u8| {
+        let v = b as f32 / 255.0;
+        if linear {
+            v
+        } else if v <= 0.04045 {
+            v / 12.92
+        } else {
+            ((v + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let px = buf[..frame.buffer_size()]
+        .chunks(channels)
+        .map(|c| {
+            if channels < 3 {
+                glam::Vec3::splat(decode(c[0]))
+            } else {
+                glam::Vec3::new(decode(c[0]), decode(c[1]), decode(c[2]))
+            }
+        })
+        .collect();
+    Ok((frame.width, frame.height, px))
+}
+
 /// Reads a binary PPM (P6, maxval 255): (width, height, rgb bytes).
 pub fn read_ppm(data: &[u8]) -> Option<(u32, u32, Vec<u8>)> {
     let mut fields = Vec::new();

@@ -567,7 +567,7 @@ fn shade(
     let eps = offset(p, ray.origin);
     let above = p + ng * eps;
     let view = -d;
-    let look = Look::at(scene, m, &at, p, ns, front);
+    let look = Look::at(scene, m, &at, (p, ray.origin), ns, front);
     let ns = look.normal;
     let colour = look.colour;
 
@@ -667,7 +667,14 @@ struct Look {
 }
 
 impl Look {
-    fn at(scene: &Scene, m: &Material, at: &Located, p: Vec3, ns: Vec3, front: bool) -> Look {
+    fn at(
+        scene: &Scene,
+        m: &Material,
+        at: &Located,
+        (p, origin): (Vec3, Vec3),
+        ns: Vec3,
+        front: bool,
+    ) -> Look {
         let plain = m.texture.is_none()
             && m.bump.is_none()
             && !matches!(m.highlight, Highlight::Ward { .. });
@@ -679,7 +686,12 @@ impl Look {
         let level = at.level.unwrap_or(glam::Affine3A::from_translation(scene.origin));
         let to_tex = m.to_texture.map_or(level, |t| t * level);
         let q = to_tex.transform_point3(p);
-        let colour = m.texture.map_or(m.color, |t| t.at(q));
+        // The ray cone's width here, in texture units (its mean scale); a
+        // pixel's n samples each cover 1/n of it.
+        let footprint = (p - origin).length() * scene.camera.pixel_spread()
+            / (scene.sampling.samples as f32).sqrt()
+            * to_tex.matrix3.determinant().abs().cbrt();
+        let colour = m.texture.and_then(|t| t.at(q, &scene.images, footprint)).unwrap_or(m.color);
         // Gradients and axes come back by the transpose and the inverse.
         let normal = match m.bump {
             None => ns,

@@ -157,6 +157,8 @@ pub struct Builder {
     /// `highlight` and `bump` that objects made now take with it.
     pub base_material: usize,
     pub look: Look,
+    /// The images textures use (`texture image`).
+    pub images: Vec<std::sync::Arc<super::texture::Image>>,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub ambient: Vec3,
@@ -201,6 +203,7 @@ impl Default for Builder {
             blob: None,
             base_material: 0,
             look: Look::default(),
+            images: Vec::new(),
             materials: vec![Material::default()],
             lights: Vec::new(),
             ambient: Vec3::ZERO,

@@ -71,6 +71,12 @@ impl Camera {
         self
     }
 
+    /// The angle one pixel spans, in radians (near the centre): the
+    /// spread of a camera ray's cone, for texture filtering.
+    pub fn pixel_spread(&self) -> f32 {
+        self.dx.length()
+    }
+
     /// Whether rays leave from a lens (and need a lens sample).
     pub fn has_lens(&self) -> bool {
         self.lens.is_some()

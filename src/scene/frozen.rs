@@ -12,6 +12,7 @@ use super::camera::Camera;
 use super::light::Light;
 use super::material::Material;
 use super::objects::{CsgTree, LeafDef, ObjDef, ObjKind};
+use super::texture::Image;
 use crate::geometry::{
     Blob, Bvh, Csg, CsgLeaf, CsgNode, CsgShape, Flake, Hit, Kind, Located, Menger, Object, Place,
     Ray, Shape,
@@ -35,6 +36,8 @@ pub struct Scene {
     /// Where the eye is in the script's coordinates (the frozen scene's
     /// origin), for textures.
     pub origin: Vec3,
+    /// The images textures use.
+    pub images: Vec<Arc<Image>>,
     /// Triangles skipped because they have no area.
     pub degenerate: usize,
 }
@@ -68,6 +71,7 @@ impl Scene {
             build_seconds,
             degenerate,
             origin: b.from.as_vec3(),
+            images: b.images.clone(),
         })
     }
 

@@ -17,4 +17,4 @@ pub use frozen::Scene;
 pub use light::{Light, spot_factor};
 pub use material::{Bump, Highlight, Material};
 pub use sampling::{Filter, FilterKind, Sampling, Tonemap};
-pub use texture::{Pattern, Texture, noise, noise_gradient, pattern, turbulence};
+pub use texture::{Image, Mapping, Pattern, Texture, noise, noise_gradient, pattern, turbulence};

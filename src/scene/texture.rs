@@ -15,6 +15,123 @@ pub enum Texture {
     Checker { a: Vec3, b: Vec3, size: f32 },
     /// A blend from `a` to `b` by a pattern of points scaled by 1/`scale`.
     Pattern { kind: Pattern, a: Vec3, b: Vec3, scale: f32 },
+    /// Image `id` of the scene's images, mapped by `mapping`; repeating
+    /// unless `once` (outside it, the material's colour).
+    Image { id: u32, mapping: Mapping, once: bool },
+}
+
+/// How an image is laid on an object (POV-Ray's `image_map` map types).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mapping {
+    /// The unit square [0, 1]² of the xy-plane (map_type 0).
+    Planar,
+    /// Around the y axis, height 0 to 1 (map_type 2).
+    Cylindrical,
+    /// Longitude and latitude around the origin (map_type 1).
+    Spherical,
+}
+
+impl Mapping {
+    pub const NAMES: &'static str = "planar, cylindrical or spherical";
+
+    pub fn parse(s: &str) -> Option<Mapping> {
+        Some(match s {
+            "planar" => Mapping::Planar,
+            "cylindrical" => Mapping::Cylindrical,
+            "spherical" => Mapping::Spherical,
+            _ => return None,
+        })
+    }
+
+    /// The image point (u, v) of `p`, and how fast (u, v) change per unit
+    /// of distance there (for the filter's footprint). u runs around the y
+    /// axis counter-clockwise seen from above, from +x (u = 0) through −z
+    /// (u = 1/4); v runs up.
+    pub fn uv(self, p: Vec3) -> (f32, f32, f32) {
+        let around = || {
+            let a = (-p.z).atan2(p.x) / std::f32::consts::TAU;
+            if a < 0.0 { a + 1.0 } else { a }
+        };
+        match self {
+            Mapping::Planar => (p.x, p.y, 1.0),
+            Mapping::Cylindrical => {
+                let rho = (p.x * p.x + p.z * p.z).sqrt().max(1e-6);
+                (around(), p.y, (1.0 / (std::f32::consts::TAU * rho)).max(1.0))
+            }
+            Mapping::Spherical => {
+                let r = p.length().max(1e-6);
+                let lat = (p.y / r).clamp(-1.0, 1.0).asin();
+                (around(), 0.5 + lat / std::f32::consts::PI, 1.0 / (std::f32::consts::PI * r))
+            }
+        }
+    }
+}
+
+/// An image texture: linear colours, with its mip-map (each level half
+/// the last, by 2×2 box averages), sampled bilinearly within a level and
+/// linearly between the two levels the footprint falls between.
+#[derive(Clone, Debug)]
+pub struct Image {
+    levels: Vec<(u32, u32, Vec<Vec3>)>,
+}
+
+impl Image {
+    /// `px` row by row from the top, `w`×`h` (both above 0).
+    pub fn new(w: u32, h: u32, px: Vec<Vec3>) -> Image {
+        let mut levels = vec![(w, h, px)];
+        loop {
+            let (w, h, px) = levels.last().expect("one level at least");
+            if *w == 1 && *h == 1 {
+                break;
+            }
+            let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+            let at = |x: u32, y: u32| px[(y.min(h - 1) * w + x.min(w - 1)) as usize];
+            let next = (0..nh)
+                .flat_map(|y| (0..nw).map(move |x| (x, y)))
+                .map(|(x, y)| {
+                    (at(2 * x, 2 * y)
+                        + at(2 * x + 1, 2 * y)
+                        + at(2 * x, 2 * y + 1)
+                        + at(2 * x + 1, 2 * y + 1))
+                        / 4.0
+                })
+                .collect();
+            levels.push((nw, nh, next));
+        }
+        Image { levels }
+    }
+
+    pub fn size(&self) -> (u32, u32) {
+        (self.levels[0].0, self.levels[0].1)
+    }
+
+    /// The colour at image point (u, v) in [0, 1)² ((0, 0) the bottom
+    /// left) for a footprint of `texels` texels of the full image.
+    pub fn sample(&self, u: f32, v: f32, texels: f32) -> Vec3 {
+        let top = (self.levels.len() - 1) as f32;
+        let level = texels.max(1.0).log2().clamp(0.0, top);
+        let (l0, f) = (level.floor() as usize, level.fract());
+        let a = self.bilinear(l0, u, v);
+        if f == 0.0 || l0 + 1 >= self.levels.len() {
+            return a;
+        }
+        a.lerp(self.bilinear(l0 + 1, u, v), f)
+    }
+
+    fn bilinear(&self, level: usize, u: f32, v: f32) -> Vec3 {
+        let (w, h, px) = &self.levels[level];
+        let (w, h) = (*w as i64, *h as i64);
+        // Texel centres at half-integers; wrapped, as the texture repeats.
+        let x = u * w as f32 - 0.5;
+        let y = (1.0 - v) * h as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let at = |i: i64, j: i64| px[(j.rem_euclid(h) * w + i.rem_euclid(w)) as usize];
+        let (i, j) = (x0 as i64, y0 as i64);
+        let top = at(i, j).lerp(at(i + 1, j), fx);
+        let bottom = at(i, j + 1).lerp(at(i + 1, j + 1), fx);
+        top.lerp(bottom, fy)
+    }
 }
 
 /// The noise patterns.
@@ -59,6 +176,7 @@ impl Texture {
         let (a, b, size) = match *self {
             Texture::Checker { a, b, size } => (a, b, size),
             Texture::Pattern { a, b, scale, .. } => (a, b, scale),
+            Texture::Image { .. } => return Ok(()),
         };
         check_color(a)?;
         check_color(b)?;
@@ -68,8 +186,26 @@ impl Texture {
         Ok(())
     }
 
-    /// The colour at `p`.
-    pub fn at(&self, p: Vec3) -> Vec3 {
+    /// The colour at `p`; `images` are the scene's, and `footprint` the
+    /// width of the ray's cone there in the same coordinates (for image
+    /// filtering). `None` outside a `-once` image.
+    pub fn at(&self, p: Vec3, images: &[std::sync::Arc<Image>], footprint: f32) -> Option<Vec3> {
+        Some(match *self {
+            Texture::Image { id, mapping, once } => {
+                let (u, v, rate) = mapping.uv(p);
+                if once && !((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v)) {
+                    return None;
+                }
+                let img = &images[id as usize];
+                let (w, h) = img.size();
+                let texels = footprint * rate * w.max(h) as f32;
+                img.sample(u - u.floor(), v - v.floor(), texels)
+            }
+            t => t.pattern_at(p),
+        })
+    }
+
+    fn pattern_at(&self, p: Vec3) -> Vec3 {
         match *self {
             Texture::Checker { a, b, size } => {
                 let c = (p / size).floor();
@@ -77,6 +213,7 @@ impl Texture {
                 if s.rem_euclid(2) == 0 { a } else { b }
             }
             Texture::Pattern { kind, a, b, scale } => a.lerp(b, pattern(kind, p / scale)),
+            Texture::Image { .. } => Vec3::ZERO,
         }
     }
 }
@@ -188,10 +325,27 @@ mod tests {
     #[test]
     fn checker_follows_povray_parity() {
         let t = Texture::Checker { a: Vec3::ONE, b: Vec3::ZERO, size: 0.5 };
-        assert_eq!(t.at(Vec3::new(0.25, 0.25, 0.25)), Vec3::ONE);
-        assert_eq!(t.at(Vec3::new(0.75, 0.25, 0.25)), Vec3::ZERO);
-        assert_eq!(t.at(Vec3::new(-0.25, 0.25, 0.25)), Vec3::ZERO, "⌊−0.5⌋ = −1: odd");
-        assert_eq!(t.at(Vec3::new(-0.25, -0.25, 0.25)), Vec3::ONE);
+        let at = |p: Vec3| t.at(p, &[], 0.0).unwrap();
+        assert_eq!(at(Vec3::new(0.25, 0.25, 0.25)), Vec3::ONE);
+        assert_eq!(at(Vec3::new(0.75, 0.25, 0.25)), Vec3::ZERO);
+        assert_eq!(at(Vec3::new(-0.25, 0.25, 0.25)), Vec3::ZERO, "⌊−0.5⌋ = −1: odd");
+        assert_eq!(at(Vec3::new(-0.25, -0.25, 0.25)), Vec3::ONE);
+    }
+
+    /// Texel centres come back exactly; the mip-map's top level is the
+    /// mean; a wide footprint blurs towards it.
+    #[test]
+    fn images_sample_texels_and_average_far_away() {
+        let px: Vec<Vec3> = (0..16).map(|i| Vec3::splat(i as f32 / 15.0)).collect();
+        let img = Image::new(4, 4, px.clone());
+        for (k, p) in px.iter().enumerate() {
+            let (x, y) = ((k % 4) as f32, (k / 4) as f32);
+            let (u, v) = ((x + 0.5) / 4.0, 1.0 - (y + 0.5) / 4.0);
+            assert!((img.sample(u, v, 1.0) - *p).length() < 1e-6, "texel {k}");
+        }
+        let mean = px.iter().copied().sum::<Vec3>() / 16.0;
+        assert!((img.sample(0.3, 0.7, 1e6) - mean).length() < 1e-6);
+        assert_eq!(img.levels.len(), 3);
     }
 
     /// In range, 0 at lattice points, continuous (small steps, small

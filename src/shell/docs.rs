@@ -228,7 +228,7 @@ pub const SCENE: &[Doc] = &[
     },
     Doc {
         name: "texture",
-        meaning: "the colour pattern of the objects made after it (as `material` is, and replacing the material's colour in its ambient and diffuse terms): `checker r1 g1 b1 r2 g2 b2 ?size?` (POV-Ray's checker: colour 1 where ⌊x/size⌋+⌊y/size⌋+⌊z/size⌋ is even), or `noise`, `marble`, `wood`, `granite` with optional colours (from, to) and scale, from a Perlin gradient noise of our own and its turbulence; `none` goes back to the flat colour. Evaluated in the coordinates the object was written in, so it moves with the object's transform and its instances",
+        meaning: "the colour pattern of the objects made after it (as `material` is, and replacing the material's colour in its ambient and diffuse terms): `checker r1 g1 b1 r2 g2 b2 ?size?` (POV-Ray's checker: colour 1 where ⌊x/size⌋+⌊y/size⌋+⌊z/size⌋ is even); `noise`, `marble`, `wood`, `granite` with optional colours (from, to) and scale, from a Perlin gradient noise of our own and its turbulence; `image FILE planar|cylindrical|spherical ?-once?`, a PNG or PPM laid as POV-Ray's image_map map types 0, 2 and 1, mip-mapped; `none` goes back to the flat colour. Evaluated in the coordinates the object was written in, so it moves with the object's transform and its instances",
         default: "none",
         example: "texture marble 0.95 0.93 0.88 0.25 0.22 0.3 0.6",
     },

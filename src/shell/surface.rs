@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use crate::interp::{Exception, Interp, Value, check_args};
-use crate::scene::{Bump, Highlight, Pattern, Texture};
+use crate::scene::{Bump, Highlight, Image, Mapping, Pattern, Texture};
 
 use super::commands::{Shared, finite_arg, scene_err};
 
@@ -13,10 +13,47 @@ fn numbers(argv: &[Value], from: usize, what: &str) -> Result<Vec<f32>, Exceptio
     argv[from..].iter().map(|v| finite_arg(v, what).map(|x| x as f32)).collect()
 }
 
+/// `texture image FILE MAPPING ?-once?`: reads the file into the scene's
+/// images and returns the texture.
+fn image_texture(scene: &Shared, argv: &[Value]) -> Result<Texture, Exception> {
+    let usage = "image fileName planar|cylindrical|spherical ?-once?";
+    check_args(argv, 4, 5, usage)?;
+    let once = match argv.get(4).map(|v| v.as_str()) {
+        None => false,
+        Some("-once") => true,
+        Some(o) => return Err(Exception::error(format!("bad option \"{o}\": must be -once"))),
+    };
+    let mapping = match argv[3].as_str() {
+        "uv" => {
+            return Err(Exception::error(
+                "the uv mapping is not built yet: mesh does not read texture coordinates (issue \"surfaces\" continues)",
+            ));
+        }
+        m => Mapping::parse(m).ok_or_else(|| {
+            Exception::error(format!("bad mapping \"{m}\": must be {}", Mapping::NAMES))
+        })?,
+    };
+    let path = argv[2].as_str();
+    let data = std::fs::read(path).map_err(|e| {
+        Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
+    })?;
+    let (w, h, px) =
+        crate::image::read_texture(&data).map_err(|e| Exception::error(format!("{path}: {e}")))?;
+    if w == 0 || h == 0 {
+        return Err(Exception::error(format!("{path}: an empty image")));
+    }
+    // The image and its mip-map (a third more).
+    crate::mem::reserve_n(w as usize * h as usize, 16)?;
+    let mut b = scene.borrow_mut();
+    crate::mem::room(&b.images, 1)?;
+    b.images.push(std::sync::Arc::new(Image::new(w, h, px)));
+    Ok(Texture::Image { id: b.images.len() as u32 - 1, mapping, once })
+}
+
 /// Registers the commands.
 pub fn register(interp: &mut Interp, scene: &Shared) {
     let s = scene.clone();
-    let usage = "none | checker r1 g1 b1 r2 g2 b2 ?size? | noise|marble|wood|granite ?r1 g1 b1 r2 g2 b2? ?scale?";
+    let usage = "none | checker r1 g1 b1 r2 g2 b2 ?size? | noise|marble|wood|granite ?r1 g1 b1 r2 g2 b2? ?scale? | image fileName planar|cylindrical|spherical ?-once?";
     interp.register_host(
         "texture",
         usage,
@@ -25,9 +62,11 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
             check_args(argv, 2, 9, usage)?;
             let kind = argv[1].as_str();
             if kind == "image" {
-                return Err(Exception::error(
-                    "texture image is not built yet (issue \"surfaces\" continues)",
-                ));
+                let t = image_texture(&s, argv)?;
+                let mut b = s.borrow_mut();
+                b.generation += 1;
+                b.set_texture(Some(t)).map_err(scene_err)?;
+                return Ok(Value::empty());
             }
             let n = numbers(argv, 2, &format!("texture {kind}"))?;
             let colours = |n: &[f32]| (Vec3::new(n[0], n[1], n[2]), Vec3::new(n[3], n[4], n[5]));

@@ -85,6 +85,8 @@ fn main() {
         surfaces::bumps_shade_by_the_perturbed_normal,
         surfaces::blinn_and_ward_highlights_follow_their_formulas,
         surfaces::bad_surfaces_are_located_errors,
+        surfaces::image_textures_put_texels_where_their_projection_says,
+        surfaces::mip_maps_keep_far_textures_close_to_supersampled,
         bad::the_corpus_is_big_enough,
         bad::every_bad_input_exits_with_a_located_message,
         bad::the_repl_survives_every_bad_input,

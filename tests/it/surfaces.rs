@@ -182,7 +182,12 @@ pub fn bad_surfaces_are_located_errors() {
         ),
         ("texture checker 1 0 0 0 0 1 0", "texture size must be above 0"),
         ("texture marble 1 2", "wrong # args"),
-        ("texture image a.png planar", "texture image is not built yet"),
+        ("texture image a.png planar", "couldn't read \"a.png\""),
+        ("texture image a.png uv", "the uv mapping is not built yet"),
+        (
+            "texture image a.png polar",
+            "bad mapping \"polar\": must be planar, cylindrical or spherical",
+        ),
         ("highlight ward 0 1", "ward roughness must be above 0"),
         ("highlight toon", "bad highlight \"toon\": must be phong, blinn or ward"),
         ("bump noise 1 0", "bump needs a finite amount and a size above 0"),
@@ -193,4 +198,122 @@ pub fn bad_surfaces_are_located_errors() {
         let err = text(&r.stderr);
         assert!(err.starts_with("-c:1: ") && err.contains(msg), "{script}: {err}");
     }
+}
+
+/// An 8×8 test image whose texel (i, j) (j from the top) is
+/// (i/7, j/7, 0.5): bilinear filtering of it is linear inside.
+fn ramp_ppm(path: &std::path::Path) {
+    let mut data = b"P6\n8 8\n255\n".to_vec();
+    for j in 0..8u32 {
+        for i in 0..8u32 {
+            data.extend([(i * 255 / 7) as u8, (j * 255 / 7) as u8, 128]);
+        }
+    }
+    std::fs::write(path, data).unwrap();
+}
+
+/// The ramp's colour at image point (u, v): red (8u − 1/2)/7, green
+/// (8(1 − v) − 1/2)/7, both inside [0, 1] away from the borders.
+fn ramp_at(u: f64, v: f64) -> (f64, f64) {
+    ((8.0 * u - 0.5) / 7.0, (8.0 * (1.0 - v) - 0.5) / 7.0)
+}
+
+/// Each projection puts the image's known texels at the known points:
+/// planar on the plane z = 0 ((u, v) = (x, y)), spherical on a unit ball
+/// (u around y from +x towards −z, v the latitude), cylindrical on a
+/// unit cylinder (v the height). Ambient-lit white, so each pixel is the
+/// texture's linear colour.
+pub fn image_textures_put_texels_where_their_projection_says() {
+    let dir = scratch("surfaces-image");
+    ramp_ppm(&dir.join("ramp.ppm"));
+    let (w, depth) = (64u32, 100.0f64);
+    let view = |cx: f64, cy: f64, half: f64| {
+        let angle = 2.0 * (half / depth).atan().to_degrees();
+        format!(
+            "camera_resolution {w} {w}; camera_angle {angle}; camera_from {cx} {cy} {depth}; camera_target {cx} {cy} 0\n\
+             ambient_light 1 1 1; material 1 1 1 1 0 0 1 0 1\n"
+        )
+    };
+    // The point of the picture each pixel centre looks at, on z = 0.
+    let aim = |i: u32, j: u32, cx: f64, cy: f64, half: f64| {
+        let x = cx + ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * half;
+        let y = cy + (1.0 - (j as f64 + 0.5) / w as f64 * 2.0) * half;
+        (x, y)
+    };
+    type Case<'a> = (&'a str, (f64, f64, f64), &'a dyn Fn(f64, f64) -> Option<(f64, f64)>);
+    let tau = std::f64::consts::TAU;
+    let around = |x: f64, z: f64| {
+        let a = (-z).atan2(x) / tau;
+        if a < 0.0 { a + 1.0 } else { a }
+    };
+    let cases: [Case; 3] = [
+        ("texture image ramp.ppm planar; plane 0 0 1 0", (0.5, 0.5, 0.5), &|x, y| Some((x, y))),
+        ("texture image ramp.ppm spherical; sphere 0 0 0 1", (0.0, 0.0, 1.1), &|x, y| {
+            let z2 = 1.0 - x * x - y * y;
+            // Seen from +z: the front of the ball.
+            (z2 > 0.05).then(|| {
+                let z = z2.sqrt();
+                (around(x, z), 0.5 + y.asin() / std::f64::consts::PI)
+            })
+        }),
+        ("texture image ramp.ppm cylindrical; cylinder 0 0 0 0 1 0 1", (0.0, 0.5, 1.1), &|x, y| {
+            // The near side of the cylinder, between its caps.
+            (x.abs() < 0.95 && (0.02..0.98).contains(&y)).then(|| {
+                let z = (1.0 - x * x).sqrt();
+                (around(x, z), y)
+            })
+        }),
+    ];
+    for (scene, (cx, cy, half), uv) in cases {
+        let img = render(&dir, &format!("{}{scene}; render t.ppm", view(cx, cy, half)));
+        let (mut checked, mut worst) = (0, 0.0f64);
+        for j in 0..w {
+            for i in 0..w {
+                let (x, y) = aim(i, j, cx, cy, half);
+                let Some((u, v)) = uv(x, y) else { continue };
+                // Away from the borders, where the image wraps.
+                if !(0.08..0.92).contains(&u) || !(0.08..0.92).contains(&v) {
+                    continue;
+                }
+                let (r, g) = ramp_at(u, v);
+                let at = ((j * w + i) * 3) as usize;
+                let (gr, gg) = (img.rgb[at] as f64 / 255.0, img.rgb[at + 1] as f64 / 255.0);
+                worst = worst.max((gr - r).abs()).max((gg - g).abs());
+                checked += 1;
+            }
+        }
+        assert!(checked > 300, "{scene}: {checked} pixels checked");
+        // The camera is 100 away, not at infinity: its rays meet a curved
+        // surface a little off the point straight below (here ≤ 0.01).
+        assert!(worst <= 4.0 / 255.0, "{scene}: a pixel is {worst} off");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Far away, a fine image texture is mip-mapped: one sample per pixel
+/// comes near the average of 256 (each of which samples its own, sharper,
+/// level), where plain point sampling would alias.
+pub fn mip_maps_keep_far_textures_close_to_supersampled() {
+    let dir = scratch("surfaces-mip");
+    // A 256×256 checker of single texels.
+    let mut data = b"P6\n256 256\n255\n".to_vec();
+    for j in 0..256u32 {
+        for i in 0..256u32 {
+            let v = if (i + j) % 2 == 0 { 255 } else { 0 };
+            data.extend([v, v, v]);
+        }
+    }
+    std::fs::write(dir.join("fine.ppm"), data).unwrap();
+    let scene = "camera_resolution 64 48; camera_from 0 1 0; camera_target 0 0.3 -20\n\
+                 ambient_light 1 1 1; material 1 1 1 1 0 0 1 0 1\n\
+                 texture image fine.ppm planar; transform { rotate -90 0 0; scale 0.5; plane 0 0 1 0 }\n";
+    let one = render(&dir, &format!("{scene}render a.ppm"));
+    let many = render(&dir, &format!("{scene}samples 256; render b.ppm"));
+    let n = one.rgb.len() as f64;
+    let err =
+        one.rgb.iter().zip(&many.rgb).map(|(a, b)| (*a as f64 - *b as f64).abs()).sum::<f64>()
+            / n
+            / 255.0;
+    assert!(err < 0.04, "mean |one sample − 256 samples| = {err}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
