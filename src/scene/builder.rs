@@ -157,6 +157,8 @@ pub struct Builder {
     /// `highlight` and `bump` that objects made now take with it.
     pub base_material: usize,
     pub look: Look,
+    /// `displace`: how the meshes that follow are displaced.
+    pub displace: Option<super::displace::Displace>,
     /// The images textures use (`texture image`).
     pub images: Vec<std::sync::Arc<super::texture::Image>>,
     pub materials: Vec<Material>,
@@ -204,6 +206,7 @@ impl Default for Builder {
             base_material: 0,
             look: Look::default(),
             images: Vec::new(),
+            displace: None,
             materials: vec![Material::default()],
             lights: Vec::new(),
             ambient: Vec3::ZERO,

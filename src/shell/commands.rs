@@ -499,7 +499,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
     let s = scene.clone();
     interp.register_host(
         "mesh",
-        "fileName ?-scale s? ?-translate x y z? ?-flat?",
+        "fileName ?-scale s? ?-translate x y z? ?-subdivide n? ?-flat?",
         "add an OBJ mesh with the current material; returns its triangle count",
         move |_, argv| {
             let mut b = s.borrow_mut();
@@ -578,11 +578,12 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
 }
 
 fn mesh_command(b: &mut Builder, argv: &[Value]) -> Result<Value, Exception> {
-    let usage = "mesh fileName ?-scale s? ?-translate x y z? ?-flat?";
+    let usage = "mesh fileName ?-scale s? ?-translate x y z? ?-subdivide n? ?-flat?";
     if argv.len() < 2 {
         return Err(Exception::wrong_args(usage));
     }
     let (mut scale, mut translate, mut flat) = (1.0f64, DVec3::ZERO, false);
+    let mut subdivide = 0u32;
     let num = |v: &Value, what: &str| -> Result<f64, Exception> {
         let bad = |msg: String| Exception::error(format!("mesh: {what}: {msg}"));
         let x = v
@@ -616,10 +617,22 @@ fn mesh_command(b: &mut Builder, argv: &[Value]) -> Result<Value, Exception> {
                 flat = true;
                 i += 1;
             }
-            "-scale" | "-translate" => return Err(Exception::wrong_args(usage)),
+            "-subdivide" if i + 1 < argv.len() => {
+                let n = num(&argv[i + 1], "-subdivide")?;
+                let max = crate::scene::MAX_SUBDIVIDE;
+                if !(n >= 0.0 && n <= max as f64 && n.fract() == 0.0) {
+                    return Err(Exception::error(format!(
+                        "mesh -subdivide must be a whole number from 0 to {max}, got {}",
+                        argv[i + 1].as_str()
+                    )));
+                }
+                subdivide = n as u32;
+                i += 2;
+            }
+            "-scale" | "-translate" | "-subdivide" => return Err(Exception::wrong_args(usage)),
             o => {
                 return Err(Exception::error(format!(
-                    "bad option \"{o}\": must be -flat, -scale, or -translate"
+                    "bad option \"{o}\": must be -flat, -scale, -subdivide, or -translate"
                 )));
             }
         }
@@ -635,6 +648,14 @@ fn mesh_command(b: &mut Builder, argv: &[Value]) -> Result<Value, Exception> {
                 Exception::error(e)
             }
         })?;
+    // Subdivided and displaced in the mesh's own coordinates.
+    let data = if subdivide > 0 || b.displace.is_some() {
+        let grown = data.tris.len().saturating_mul(1 << (2 * subdivide));
+        crate::mem::reserve_n(grown, 3 * 4 + 2 * 12)?;
+        crate::scene::subdivide(&data, subdivide, b.displace)
+    } else {
+        data
+    };
     let n = b.add_mesh(&data, scale, translate, flat).map_err(scene_err)?;
     Ok(Value::from_int(n as i64))
 }

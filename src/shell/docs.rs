@@ -245,6 +245,12 @@ pub const SCENE: &[Doc] = &[
         example: "bump noise 0.2 0.1",
     },
     Doc {
+        name: "displace",
+        meaning: "`noise amount ?size?`: the meshes made after it are subdivided (as `mesh -subdivide n` asks) and their vertices moved along their area-weighted normals by amount·noise(p/size), in the mesh file's coordinates: real geometry, so silhouettes and shadows change; `none` stops",
+        default: "none",
+        example: "displace noise 0.1 0.2; mesh ball.obj -subdivide 3",
+    },
+    Doc {
         name: "max_vertices",
         meaning: "a capacity hint for the vertex pool; using more is still correct",
         default: "",
@@ -354,7 +360,7 @@ pub const SCENE: &[Doc] = &[
     },
     Doc {
         name: "mesh",
-        meaning: "add an OBJ mesh (read with tobj; a name ending in `.gz` is read as gzip-compressed OBJ) with the current material, scaled then moved; polygons are triangulated; smooth normals from `vn`, or computed from the faces (area-weighted) when the file has none; `-flat` turns smoothing off; returns the triangle count (its vertices keep out of the `vertex` pool, so `vertex` numbering is unaffected). A bad file is an error naming its line (`bunny.obj:12: bad OBJ line \"f 1 2 x\"`)",
+        meaning: "add an OBJ mesh (read with tobj; a name ending in `.gz` is read as gzip-compressed OBJ) with the current material, scaled then moved; polygons are triangulated; smooth normals from `vn`, or computed from the faces (area-weighted) when the file has none; `-flat` turns smoothing off; `-subdivide n` splits each triangle into four, n times (then `displace` moves the vertices); the current transform places it too; returns the triangle count (its vertices keep out of the `vertex` pool, so `vertex` numbering is unaffected). A bad file is an error naming its line (`bunny.obj:12: bad OBJ line \"f 1 2 x\"`)",
         default: "",
         example: "mesh bunny.obj.gz -scale 6 -translate 0 -0.2 0",
     },

@@ -4,7 +4,7 @@
 use glam::Vec3;
 
 use crate::interp::{Exception, Interp, Value, check_args};
-use crate::scene::{Bump, Highlight, Image, Mapping, Pattern, Texture};
+use crate::scene::{Bump, Displace, Highlight, Image, Mapping, Pattern, Texture};
 
 use super::commands::{Shared, finite_arg, scene_err};
 
@@ -52,6 +52,45 @@ fn image_texture(scene: &Shared, argv: &[Value]) -> Result<Texture, Exception> {
 
 /// Registers the commands.
 pub fn register(interp: &mut Interp, scene: &Shared) {
+    let s = scene.clone();
+    interp.register_host(
+        "displace",
+        "none | noise amount ?size?",
+        "move the vertices of the meshes that follow along their normals by a noise's height",
+        move |_, argv| {
+            check_args(argv, 2, 4, "none | noise amount ?size?")?;
+            if argv[1].as_str() == "image" {
+                return Err(Exception::error(
+                    "displace image is not built yet (issue \"surfaces\" continues)",
+                ));
+            }
+            let n = numbers(argv, 2, "displace noise")?;
+            let d = match (argv[1].as_str(), n.len()) {
+                ("none", 0) => None,
+                ("noise", 1 | 2) => {
+                    let size = n.get(1).copied().unwrap_or(1.0);
+                    if size.is_nan() || size <= 0.0 {
+                        return Err(Exception::error(format!(
+                            "displace needs a size above 0, got {size}"
+                        )));
+                    }
+                    Some(Displace { amount: n[0], size })
+                }
+                ("none" | "noise", _) => {
+                    return Err(Exception::wrong_args("none | noise amount ?size?"));
+                }
+                (k, _) => {
+                    return Err(Exception::error(format!(
+                        "bad displace \"{k}\": must be noise or none"
+                    )));
+                }
+            };
+            let mut b = s.borrow_mut();
+            b.generation += 1;
+            b.displace = d;
+            Ok(Value::empty())
+        },
+    );
     let s = scene.clone();
     let usage = "none | checker r1 g1 b1 r2 g2 b2 ?size? | noise|marble|wood|granite ?r1 g1 b1 r2 g2 b2? ?scale? | image fileName planar|cylindrical|spherical ?-once?";
     interp.register_host(

@@ -356,7 +356,7 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         "mesh bad option",
         "mesh badface.obj -rotate 9",
         1,
-        "bad option \"-rotate\": must be -flat, -scale, or -translate",
+        "bad option \"-rotate\": must be -flat, -scale, -subdivide, or -translate",
     ),
     (
         "source missing",

@@ -101,7 +101,7 @@ pub fn bad_obj_files_are_located_errors() {
     assert!(text(&r.stderr).contains("couldn't read \"nope.obj\": no such file or directory"));
     let r = raytrace().arg("-c").arg("mesh x.obj -scale").current_dir(&dir).output().unwrap();
     assert!(text(&r.stderr).contains(
-        "wrong # args: should be \"mesh fileName ?-scale s? ?-translate x y z? ?-flat?\""
+        "wrong # args: should be \"mesh fileName ?-scale s? ?-translate x y z? ?-subdivide n? ?-flat?\""
     ));
     let _ = std::fs::remove_dir_all(&dir);
 }

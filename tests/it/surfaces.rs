@@ -317,3 +317,101 @@ pub fn mip_maps_keep_far_textures_close_to_supersampled() {
     assert!(err < 0.04, "mean |one sample − 256 samples| = {err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A ball of triangles: an octahedron subdivided `n` times and pushed out
+/// onto the unit sphere, as OBJ text.
+fn ball_obj(n: u32) -> String {
+    let mut p: Vec<[f64; 3]> =
+        vec![[1., 0., 0.], [-1., 0., 0.], [0., 1., 0.], [0., -1., 0.], [0., 0., 1.], [0., 0., -1.]];
+    let mut t: Vec<[usize; 3]> = vec![
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    for _ in 0..n {
+        let mut mid = std::collections::HashMap::new();
+        let mut next = Vec::new();
+        for &[a, b, c] in &t {
+            let mut m = |i: usize, j: usize| {
+                *mid.entry((i.min(j), i.max(j))).or_insert_with(|| {
+                    let q = [
+                        (p[i][0] + p[j][0]) / 2.0,
+                        (p[i][1] + p[j][1]) / 2.0,
+                        (p[i][2] + p[j][2]) / 2.0,
+                    ];
+                    let l = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
+                    p.push([q[0] / l, q[1] / l, q[2] / l]);
+                    p.len() - 1
+                })
+            };
+            let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
+            next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        t = next;
+    }
+    let mut s: String = p.iter().map(|v| format!("v {} {} {}\n", v[0], v[1], v[2])).collect();
+    s.extend(t.iter().map(|f| format!("f {} {} {}\n", f[0] + 1, f[1] + 1, f[2] + 1)));
+    s
+}
+
+/// `displace` moves a mesh's vertices along their normals: the ball's
+/// bounds grow by at most the amount, and its silhouette, round before,
+/// is no longer round (its radius, measured along 90 directions, varies).
+pub fn displacement_changes_bounds_and_silhouettes() {
+    let dir = scratch("surfaces-displace");
+    std::fs::write(dir.join("ball.obj"), ball_obj(4)).unwrap();
+    let amount = 0.12;
+    let bounds = |setup: &str| -> Vec<f64> {
+        let r = raytrace()
+            .args(["-c", &format!("{setup}; mesh ball.obj; puts [scene_bounds]")])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+        text(&r.stdout).split_whitespace().map(|w| w.parse().unwrap()).collect()
+    };
+    let plain = bounds("displace none");
+    let moved = bounds(&format!("displace noise {amount} 0.3"));
+    let grew: Vec<f64> =
+        (0..6).map(|k| if k < 3 { plain[k] - moved[k] } else { moved[k] - plain[k] }).collect();
+    assert!(grew.iter().all(|&g| g <= amount + 1e-6), "grew by {grew:?}");
+    assert!(grew.iter().any(|&g| g > 0.01), "did not grow: {grew:?}");
+    // Silhouettes: radius from the centre along 90 directions.
+    let w = 101u32;
+    let view = "camera_resolution 101 101; camera_angle 40; camera_from 0 0 6; camera_target 0 0 0\n\
+                ambient_light 1 1 1; material 1 1 1 1 0 0 1 0 1";
+    let spread = |setup: &str, out: &str| {
+        let img =
+            render(&dir, &format!("{view}; {setup}; mesh ball.obj -subdivide 2; render {out}"));
+        let lit = |x: i64, y: i64| {
+            (0..w as i64).contains(&x)
+                && (0..w as i64).contains(&y)
+                && img.rgb[((y * w as i64 + x) * 3) as usize] > 128
+        };
+        let radii: Vec<f64> = (0..90)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 90.0;
+                (0..70)
+                    .map(|r| r as f64 * 0.5)
+                    .take_while(|&r| lit((50.5 + r * a.cos()) as i64, (50.5 + r * a.sin()) as i64))
+                    .last()
+                    .unwrap_or(0.0)
+            })
+            .collect();
+        let mean = radii.iter().sum::<f64>() / radii.len() as f64;
+        (radii.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / radii.len() as f64).sqrt()
+    };
+    let round = spread("displace none", "a.ppm");
+    let bumpy = spread("displace noise 0.4 0.3", "b.ppm");
+    assert!(round < 0.8, "the plain ball's radius varies by {round} pixels");
+    assert!(
+        bumpy > 2.0 * round.max(0.5),
+        "the displaced ball's radius varies by {bumpy} pixels only"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

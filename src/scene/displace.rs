@@ -1,0 +1,99 @@
+//! Displacement mapping: a mesh subdivided (each triangle into four, n
+//! times, edges shared) and its vertices moved along their normals by a
+//! height, amount·noise(p/size), in the mesh's own coordinates. Real
+//! geometry: silhouettes and shadows change.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use super::builder::MeshData;
+use super::texture::noise;
+
+/// `displace noise amount size`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Displace {
+    pub amount: f32,
+    pub size: f32,
+}
+
+impl Displace {
+    /// The height at `p`.
+    pub fn height(&self, p: Vec3) -> f32 {
+        self.amount * noise(p / self.size)
+    }
+}
+
+/// The most subdivisions `mesh -subdivide` accepts (4^8 = 65,536
+/// triangles for each one).
+pub const MAX_SUBDIVIDE: u32 = 8;
+
+/// `mesh` subdivided `n` times (midpoints shared between neighbours, so
+/// the surface stays closed), then displaced along its area-weighted
+/// vertex normals if `displace` is given. The file's own normals are
+/// dropped (the new surface has its own, computed when it is placed).
+pub fn subdivide(mesh: &MeshData, n: u32, displace: Option<Displace>) -> MeshData {
+    let mut positions = mesh.positions.clone();
+    let mut tris = mesh.tris.clone();
+    for _ in 0..n.min(MAX_SUBDIVIDE) {
+        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut next = Vec::with_capacity(tris.len() * 4);
+        let mut at = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                positions.push((positions[a as usize] + positions[b as usize]) * 0.5);
+                positions.len() as u32 - 1
+            })
+        };
+        for &[a, b, c] in &tris {
+            let (ab, bc, ca) =
+                (at(a, b, &mut positions), at(b, c, &mut positions), at(c, a, &mut positions));
+            next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        tris = next;
+    }
+    if let Some(d) = displace {
+        let mut normals = vec![Vec3::ZERO; positions.len()];
+        for t in &tris {
+            let [a, b, c] = t.map(|i| positions[i as usize]);
+            let n = (b - a).cross(c - a);
+            for &i in t {
+                normals[i as usize] += n;
+            }
+        }
+        for (p, n) in positions.iter_mut().zip(&normals) {
+            *p += n.normalize_or_zero() * d.height(*p);
+        }
+    }
+    MeshData { positions, normals: Vec::new(), tris, normal_tris: None }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat square: every vertex moves straight up by its height, and
+    /// subdividing twice makes 32 triangles on 25 shared vertices.
+    #[test]
+    fn vertices_move_by_height_along_the_normal() {
+        let square = MeshData {
+            positions: vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            ],
+            normals: Vec::new(),
+            tris: vec![[0, 1, 2], [0, 2, 3]],
+            normal_tris: None,
+        };
+        let flat = subdivide(&square, 2, None);
+        assert_eq!((flat.tris.len(), flat.positions.len()), (32, 25));
+        let d = Displace { amount: 0.2, size: 0.3 };
+        let moved = subdivide(&square, 2, Some(d));
+        for (p, q) in flat.positions.iter().zip(&moved.positions) {
+            assert!((q.x - p.x).abs() < 1e-6 && (q.y - p.y).abs() < 1e-6);
+            assert!((q.z - d.height(*p)).abs() < 1e-6, "{p} went to {q}");
+        }
+        assert!(moved.positions.iter().any(|p| p.z.abs() > 0.01));
+    }
+}
