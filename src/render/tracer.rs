@@ -696,7 +696,27 @@ impl Look {
         let normal = match m.bump {
             None => ns,
             Some(b) => {
-                let g = texture::noise_gradient(q / b.size) * (b.amount / b.size);
+                let g = match b.image {
+                    None => texture::noise_gradient(q / b.size) * (b.amount / b.size),
+                    Some((id, mapping)) => {
+                        // Central differences half a texel (of the planar
+                        // unit square) wide.
+                        let img = &scene.images[id as usize];
+                        let (w, h) = img.size();
+                        let e = 0.5 / w.max(h) as f32;
+                        let height = |q: Vec3| {
+                            let (u, v, _) = mapping.uv(q);
+                            b.amount
+                                * crate::scene::luminance(img.sample(
+                                    u - u.floor(),
+                                    v - v.floor(),
+                                    1.0,
+                                ))
+                        };
+                        let d = |a: Vec3| (height(q + a * e) - height(q - a * e)) / (2.0 * e);
+                        Vec3::new(d(Vec3::X), d(Vec3::Y), d(Vec3::Z))
+                    }
+                };
                 let g = (to_tex.matrix3.transpose() * glam::Vec3A::from(g)).into();
                 let along: Vec3 = g - ns * ns.dot(g);
                 let side = if front { 1.0 } else { -1.0 };

@@ -8,20 +8,33 @@ use std::collections::HashMap;
 use glam::Vec3;
 
 use super::builder::MeshData;
-use super::texture::noise;
+use super::texture::{Image, noise};
 
-/// `displace noise amount size`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// `displace noise amount size`, or `displace image FILE amount` (the
+/// image's luminance laid on the mesh's xy-plane, the unit square
+/// repeating, as a planar texture).
+#[derive(Clone, Debug)]
 pub struct Displace {
     pub amount: f32,
     pub size: f32,
+    pub image: Option<std::sync::Arc<Image>>,
 }
 
 impl Displace {
     /// The height at `p`.
     pub fn height(&self, p: Vec3) -> f32 {
-        self.amount * noise(p / self.size)
+        match &self.image {
+            None => self.amount * noise(p / self.size),
+            Some(img) => {
+                self.amount * luminance(img.sample(p.x - p.x.floor(), p.y - p.y.floor(), 1.0))
+            }
+        }
     }
+}
+
+/// Rec. 709 luminance of a linear colour.
+pub fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
 }
 
 /// The most subdivisions `mesh -subdivide` accepts (4^8 = 65,536
@@ -32,7 +45,7 @@ pub const MAX_SUBDIVIDE: u32 = 8;
 /// the surface stays closed), then displaced along its area-weighted
 /// vertex normals if `displace` is given. The file's own normals are
 /// dropped (the new surface has its own, computed when it is placed).
-pub fn subdivide(mesh: &MeshData, n: u32, displace: Option<Displace>) -> MeshData {
+pub fn subdivide(mesh: &MeshData, n: u32, displace: Option<&Displace>) -> MeshData {
     let mut positions = mesh.positions.clone();
     let mut tris = mesh.tris.clone();
     for _ in 0..n.min(MAX_SUBDIVIDE) {
@@ -88,8 +101,8 @@ mod tests {
         };
         let flat = subdivide(&square, 2, None);
         assert_eq!((flat.tris.len(), flat.positions.len()), (32, 25));
-        let d = Displace { amount: 0.2, size: 0.3 };
-        let moved = subdivide(&square, 2, Some(d));
+        let d = Displace { amount: 0.2, size: 0.3, image: None };
+        let moved = subdivide(&square, 2, Some(&d));
         for (p, q) in flat.positions.iter().zip(&moved.positions) {
             assert!((q.x - p.x).abs() < 1e-6 && (q.y - p.y).abs() < 1e-6);
             assert!((q.z - d.height(*p)).abs() < 1e-6, "{p} went to {q}");

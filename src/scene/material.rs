@@ -19,12 +19,14 @@ pub enum Highlight {
     Ward { ax: f32, ay: f32 },
 }
 
-/// A bump map: the shading normal tilted by the gradient of
-/// amount·noise(p/size).
+/// A bump map: the shading normal tilted by the gradient of a height,
+/// amount·noise(p/size), or amount times the luminance of image `id`
+/// laid by its mapping.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bump {
     pub amount: f32,
     pub size: f32,
+    pub image: Option<(u32, super::texture::Mapping)>,
 }
 
 /// The range `material` accepts for an index of refraction (0 aside).

@@ -14,7 +14,7 @@ pub mod texture;
 
 pub use builder::{Aim, Builder, MAX_PIXELS, MAX_TRACE_DEPTH, MeshData, SceneError};
 pub use camera::Camera;
-pub use displace::{Displace, MAX_SUBDIVIDE, subdivide};
+pub use displace::{Displace, MAX_SUBDIVIDE, luminance, subdivide};
 pub use frozen::Scene;
 pub use light::{Light, spot_factor};
 pub use material::{Bump, Highlight, Material};

@@ -652,7 +652,7 @@ fn mesh_command(b: &mut Builder, argv: &[Value]) -> Result<Value, Exception> {
     let data = if subdivide > 0 || b.displace.is_some() {
         let grown = data.tris.len().saturating_mul(1 << (2 * subdivide));
         crate::mem::reserve_n(grown, 3 * 4 + 2 * 12)?;
-        crate::scene::subdivide(&data, subdivide, b.displace)
+        crate::scene::subdivide(&data, subdivide, b.displace.as_ref())
     } else {
         data
     };

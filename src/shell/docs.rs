@@ -240,13 +240,13 @@ pub const SCENE: &[Doc] = &[
     },
     Doc {
         name: "bump",
-        meaning: "`noise amount ?size?` tilts the shading normals of the objects that follow by the gradient of amount·noise(p/size) (the geometry is unchanged; evaluated as textures are); `none` stops",
+        meaning: "`noise amount ?size?` tilts the shading normals of the objects that follow by the gradient of amount·noise(p/size); `image FILE amount MAPPING` by the gradient of amount times the image's luminance laid as `texture image` lays it (the geometry is unchanged; evaluated as textures are); `none` stops",
         default: "none",
         example: "bump noise 0.2 0.1",
     },
     Doc {
         name: "displace",
-        meaning: "`noise amount ?size?`: the meshes made after it are subdivided (as `mesh -subdivide n` asks) and their vertices moved along their area-weighted normals by amount·noise(p/size), in the mesh file's coordinates: real geometry, so silhouettes and shadows change; `none` stops",
+        meaning: "`noise amount ?size?`: the meshes made after it are subdivided (as `mesh -subdivide n` asks) and their vertices moved along their area-weighted normals by amount·noise(p/size), in the mesh file's coordinates: real geometry, so silhouettes and shadows change; `image FILE amount` takes the height from the image's luminance on the mesh's xy-plane (the unit square, repeating); `none` stops",
         default: "none",
         example: "displace noise 0.1 0.2; mesh ball.obj -subdivide 3",
     },

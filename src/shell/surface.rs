@@ -1,6 +1,8 @@
 //! The scene commands of surfaces: `texture`, `highlight` and `bump`,
 //! state taken by the objects made after them, as `material` is.
 
+use std::sync::Arc;
+
 use glam::Vec3;
 
 use crate::interp::{Exception, Interp, Value, check_args};
@@ -23,17 +25,13 @@ fn image_texture(scene: &Shared, argv: &[Value]) -> Result<Texture, Exception> {
         Some("-once") => true,
         Some(o) => return Err(Exception::error(format!("bad option \"{o}\": must be -once"))),
     };
-    let mapping = match argv[3].as_str() {
-        "uv" => {
-            return Err(Exception::error(
-                "the uv mapping is not built yet: mesh does not read texture coordinates (issue \"surfaces\" continues)",
-            ));
-        }
-        m => Mapping::parse(m).ok_or_else(|| {
-            Exception::error(format!("bad mapping \"{m}\": must be {}", Mapping::NAMES))
-        })?,
-    };
-    let path = argv[2].as_str();
+    let mapping = mapping(&argv[3])?;
+    let (id, _) = load_image(scene, argv[2].as_str())?;
+    Ok(Texture::Image { id, mapping, once })
+}
+
+/// Reads an image file into the scene's images: its number and itself.
+fn load_image(scene: &Shared, path: &str) -> Result<(u32, Arc<Image>), Exception> {
     let data = std::fs::read(path).map_err(|e| {
         Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
     })?;
@@ -46,8 +44,21 @@ fn image_texture(scene: &Shared, argv: &[Value]) -> Result<Texture, Exception> {
     crate::mem::reserve_n(w as usize * h as usize, 16)?;
     let mut b = scene.borrow_mut();
     crate::mem::room(&b.images, 1)?;
-    b.images.push(std::sync::Arc::new(Image::new(w, h, px)));
-    Ok(Texture::Image { id: b.images.len() as u32 - 1, mapping, once })
+    let img = Arc::new(Image::new(w, h, px));
+    b.images.push(img.clone());
+    Ok((b.images.len() as u32 - 1, img))
+}
+
+/// A mapping's name.
+fn mapping(v: &Value) -> Result<Mapping, Exception> {
+    match v.as_str() {
+        "uv" => Err(Exception::error(
+            "the uv mapping is not built yet: mesh does not read texture coordinates (issue \"surfaces\" continues)",
+        )),
+        m => Mapping::parse(m).ok_or_else(|| {
+            Exception::error(format!("bad mapping \"{m}\": must be {}", Mapping::NAMES))
+        }),
+    }
 }
 
 /// Registers the commands.
@@ -55,14 +66,18 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
     let s = scene.clone();
     interp.register_host(
         "displace",
-        "none | noise amount ?size?",
+        "none | noise amount ?size? | image fileName amount",
         "move the vertices of the meshes that follow along their normals by a noise's height",
         move |_, argv| {
-            check_args(argv, 2, 4, "none | noise amount ?size?")?;
+            check_args(argv, 2, 4, "none | noise amount ?size? | image fileName amount")?;
             if argv[1].as_str() == "image" {
-                return Err(Exception::error(
-                    "displace image is not built yet (issue \"surfaces\" continues)",
-                ));
+                check_args(argv, 4, 4, "image fileName amount")?;
+                let amount = finite_arg(&argv[3], "displace image: amount")? as f32;
+                let (_, img) = load_image(&s, argv[2].as_str())?;
+                let mut b = s.borrow_mut();
+                b.generation += 1;
+                b.displace = Some(Displace { amount, size: 1.0, image: Some(img) });
+                return Ok(Value::empty());
             }
             let n = numbers(argv, 2, "displace noise")?;
             let d = match (argv[1].as_str(), n.len()) {
@@ -74,7 +89,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
                             "displace needs a size above 0, got {size}"
                         )));
                     }
-                    Some(Displace { amount: n[0], size })
+                    Some(Displace { amount: n[0], size, image: None })
                 }
                 ("none" | "noise", _) => {
                     return Err(Exception::wrong_args("none | noise amount ?size?"));
@@ -167,20 +182,26 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
     let s = scene.clone();
     interp.register_host(
         "bump",
-        "none | noise amount ?size?",
+        "none | noise amount ?size? | image fileName amount mapping",
         "tilt the shading normals of the objects that follow by a noise's gradient",
         move |_, argv| {
-            check_args(argv, 2, 5, "none | noise amount ?size?")?;
+            check_args(argv, 2, 5, "none | noise amount ?size? | image fileName amount mapping")?;
             if argv[1].as_str() == "image" {
-                return Err(Exception::error(
-                    "bump image is not built yet (issue \"surfaces\" continues)",
-                ));
+                check_args(argv, 5, 5, "image fileName amount mapping")?;
+                let amount = finite_arg(&argv[3], "bump image: amount")? as f32;
+                let m = mapping(&argv[4])?;
+                let (id, _) = load_image(&s, argv[2].as_str())?;
+                let mut b = s.borrow_mut();
+                b.generation += 1;
+                b.set_bump(Some(Bump { amount, size: 1.0, image: Some((id, m)) }))
+                    .map_err(scene_err)?;
+                return Ok(Value::empty());
             }
             let n = numbers(argv, 2, "bump noise")?;
             let bump = match (argv[1].as_str(), n.len()) {
                 ("none", 0) => None,
                 ("noise", 1 | 2) => {
-                    Some(Bump { amount: n[0], size: n.get(1).copied().unwrap_or(1.0) })
+                    Some(Bump { amount: n[0], size: n.get(1).copied().unwrap_or(1.0), image: None })
                 }
                 ("none" | "noise", _) => {
                     return Err(Exception::wrong_args("none | noise amount ?size?"));

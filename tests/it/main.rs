@@ -88,6 +88,7 @@ fn main() {
         surfaces::image_textures_put_texels_where_their_projection_says,
         surfaces::mip_maps_keep_far_textures_close_to_supersampled,
         surfaces::displacement_changes_bounds_and_silhouettes,
+        surfaces::image_bumps_and_displacements_follow_the_image,
         bad::the_corpus_is_big_enough,
         bad::every_bad_input_exits_with_a_located_message,
         bad::the_repl_survives_every_bad_input,

@@ -415,3 +415,53 @@ pub fn displacement_changes_bounds_and_silhouettes() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `bump image` and `displace image` take their height from the image's
+/// luminance: on the ramp image, whose luminance rises linearly in x and
+/// falls in y, a bumped plane lit head-on has the one tilt the slopes
+/// give, 1/√(1 + (a·0.2126·8/7)² + (a·0.7152·8/7)²); a displaced square's
+/// top is the amount times the brightest texel's luminance (a vertex of
+/// the subdivided square sits on its centre).
+pub fn image_bumps_and_displacements_follow_the_image() {
+    let dir = scratch("surfaces-image-bump");
+    ramp_ppm(&dir.join("ramp.ppm"));
+    let (w, depth, half, a) = (64u32, 100.0f64, 0.5f64, 0.5f64);
+    let angle = 2.0 * (half / depth).atan().to_degrees();
+    let img = render(
+        &dir,
+        &format!(
+            "camera_resolution {w} {w}; camera_angle {angle}; camera_from 0.5 0.5 {depth}; camera_target 0.5 0.5 0\n\
+             parallel_light 1 1 1 0 0 -1; material 1 1 1 0 1 0 1 0 1\n\
+             bump image ramp.ppm {a} planar; plane 0 0 1 0; render a.ppm"
+        ),
+    );
+    let k = 8.0 / 7.0;
+    let want = 1.0 / (1.0 + (a * 0.2126 * k).powi(2) + (a * 0.7152 * k).powi(2)).sqrt();
+    let mut checked = 0;
+    for j in 8..56u32 {
+        for i in 8..56u32 {
+            let got = img.rgb[((j * w + i) * 3) as usize] as f64 / 255.0;
+            assert!((got - want).abs() <= 2.0 / 255.0, "pixel {i},{j}: {got} vs {want}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 2000);
+    let square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
+    std::fs::write(dir.join("square.obj"), square).unwrap();
+    let r = raytrace()
+        .args([
+            "-c",
+            "displace image ramp.ppm 0.2; mesh square.obj -subdivide 4; puts [scene_bounds]",
+        ])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let b: Vec<f64> = text(&r.stdout).split_whitespace().map(|w| w.parse().unwrap()).collect();
+    // The highest vertex sits on the centre of the brightest texel, the
+    // bottom right (7, 7): (1, 1, 128/255).
+    let top = 0.2 * (0.2126 + 0.7152 + 0.0722 * 128.0 / 255.0);
+    assert!((b[5] - top).abs() < 1e-4, "top {} (want {top})", b[5]);
+    assert!(b[2] >= 0.0, "nothing goes below the plane: {}", b[2]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
