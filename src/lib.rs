@@ -17,7 +17,8 @@
 //!   CSG by intervals (`csg`), blobs (`blob`), lazily generated fractals
 //!   (`fractal`), and trees of their own (instances, moving primitives).
 //! - `scene`: `Builder` (mutable, checked, double precision; its transform
-//!   stack, CSG, blobs and groups in `objects`), `Scene`
+//!   stack, CSG, blobs and groups in `objects`), textures and our Perlin
+//!   noise (`texture`), displacement (`displace`), `Scene`
 //!   (frozen, single precision relative to the eye: one BVH over the still
 //!   primitives and one per velocity of moving ones, walked by rays moved
 //!   back to time 0), camera, lights, materials, sampling settings.
@@ -33,7 +34,8 @@
 //! - `shell`: the glue and the only module that touches files, the terminal,
 //!   signals, the environment and exit codes: arguments, the REPL (with
 //!   completion), the scene commands (`commands`, `structure` for shapes,
-//!   transforms, CSG and groups) and their documentation
+//!   transforms, CSG and groups, `surface` for textures, highlights, bumps
+//!   and displacement) and their documentation
 //!   (`docs`, also the README's table), OBJ loading (plain or gzip), NFF
 //!   scenes (`nff`), atomic
 //!   files, statistics and the last picture (`stats`), progress bars, ETA
