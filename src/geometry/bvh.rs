@@ -337,7 +337,14 @@ impl Bvh {
             Shape::Sphere { center, radius, .. } => Local::Sphere { center, radius },
             Shape::Object { .. } => unreachable!("objects are handled above"),
         };
-        Located { local, material: rec.material, uv: hit.uv, to_local: None, level: None }
+        Located {
+            local,
+            material: rec.material,
+            uv: hit.uv,
+            to_local: None,
+            level: None,
+            moved: Vec3::ZERO,
+        }
     }
 
     /// `locate` for a hit of which only the distance is known (one found

@@ -226,6 +226,7 @@ impl Csg {
             uv: [0.0; 2],
             to_local: leaf.place.at(ray.time),
             level: None,
+            moved: Vec3::ZERO,
         }
     }
 }

@@ -119,6 +119,9 @@ pub struct Located {
     /// World to the coordinates of the group the primitive was written in
     /// (where its texture is evaluated); `None`: it is in no instance.
     pub level: Option<Affine3A>,
+    /// For a primitive in no instance: how far its motion has carried it
+    /// at the ray's time (its texture goes with it).
+    pub moved: Vec3,
 }
 
 /// The primitive a hit resolves to, in its own coordinates.
@@ -144,6 +147,9 @@ impl Located {
             if self.level.is_some() {
                 self.level = compose(self.level);
             }
+        }
+        if self.level.is_none() {
+            self.moved += place.velocity * time;
         }
         self
     }
@@ -266,6 +272,7 @@ impl Object {
                     uv,
                     to_local: None,
                     level: None,
+                    moved: Vec3::ZERO,
                 }
             }
             Kind::Tree(tree) => {
@@ -284,6 +291,7 @@ impl Object {
                 uv,
                 to_local: None,
                 level: None,
+                moved: Vec3::ZERO,
             },
             Kind::Flake { flake, material } => {
                 // The sphere hit: asked again around t.
@@ -297,6 +305,7 @@ impl Object {
                     uv,
                     to_local: None,
                     level: None,
+                    moved: Vec3::ZERO,
                 }
             }
             Kind::Menger { material, .. } => {
@@ -307,6 +316,7 @@ impl Object {
                     uv,
                     to_local: None,
                     level: None,
+                    moved: Vec3::ZERO,
                 }
             }
         };

@@ -683,7 +683,7 @@ impl Look {
         }
         // World to texture coordinates: through the group the object was
         // written in (or back from the eye), then its own inverse transform.
-        let level = at.level.unwrap_or(glam::Affine3A::from_translation(scene.origin));
+        let level = at.level.unwrap_or(glam::Affine3A::from_translation(scene.origin - at.moved));
         let to_tex = m.to_texture.map_or(level, |t| t * level);
         let q = to_tex.transform_point3(p);
         // The ray cone's width here, in texture units (its mean scale); a

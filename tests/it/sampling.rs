@@ -461,7 +461,7 @@ pub fn motion_blur_streaks_by_velocity_times_shutter() {
 /// With the shutter closed at an instant, a moving object is exactly where
 /// its velocity puts it, shadow included: the picture of a still object
 /// placed there (up to the rounding of the moved ray's origin). Spheres,
-/// triangles, boxes and instances alike.
+/// triangles, boxes and instances alike, their textures carried along.
 pub fn moving_objects_are_where_the_shutter_says() {
     let dir = scratch("sampling-moved");
     let base = "camera_resolution 60 40; camera_from 0 3 6; camera_target 0 0.5 0\n\
@@ -497,6 +497,21 @@ pub fn moving_objects_are_where_the_shutter_says() {
         );
         let differ = seen.rgb.iter().zip(&still.rgb).filter(|(a, b)| a.abs_diff(**b) > 2).count();
         assert!(differ <= 3, "at time {time}: {differ} channels differ");
+        // Textured: the pattern rides along, as under `translate`.
+        let objects =
+            "texture checker 1 0.4 0.3 0.3 0.4 1 0.2; sphere -1 0.7 0 0.6; box 1 0 -2 1.5 0.5 -1.5";
+        let seen = render(
+            &dir,
+            &[],
+            &format!("{base}motion 0.5 0.25 0; {objects}; shutter {time} {time}; render c.ppm"),
+        );
+        let still = render(
+            &dir,
+            &[],
+            &format!("{base}transform {{translate {dx} {dy} 0; {objects}}}; render d.ppm"),
+        );
+        let differ = seen.rgb.iter().zip(&still.rgb).filter(|(a, b)| a.abs_diff(**b) > 2).count();
+        assert!(differ <= 3, "textured, at time {time}: {differ} channels differ");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
