@@ -105,6 +105,29 @@ pub struct Object {
     pub kind: Kind,
 }
 
+/// What passes the crossings of a surface of one material: the product of
+/// `pass(material)` over each crossing `cross` reports (in order) inside
+/// `(t_min, t_max)`, stopping at the first past `t_max` or once nothing
+/// passes.
+fn through(
+    material: u32,
+    pass: &mut dyn FnMut(u32) -> Vec3,
+    (t_min, t_max): (f32, f32),
+    cross: impl FnOnce(&mut dyn FnMut(f32) -> bool),
+) -> Vec3 {
+    let mut through = Vec3::ONE;
+    cross(&mut |t| {
+        if t >= t_max {
+            return true;
+        }
+        if t > t_min {
+            through *= pass(material);
+        }
+        through == Vec3::ZERO
+    });
+    through
+}
+
 /// A hit's surface, resolved down to a primitive in its own coordinates:
 /// what shading needs, whatever the nesting.
 #[derive(Clone, Copy, Debug)]
@@ -216,46 +239,24 @@ impl Object {
     ) -> Vec3 {
         let local = self.place.local(ray);
         match &self.kind {
-            Kind::Solid { solid, material } => {
-                let mut through = Vec3::ONE;
-                for c in solid.crossings(&local).as_slice() {
-                    if c.t > t_min && c.t < t_max {
-                        through *= pass(*material);
-                        if through == Vec3::ZERO {
-                            break;
-                        }
-                    }
-                }
-                through
-            }
             Kind::Tree(t) => t.transmittance(&local, t_min, t_max, pass),
             Kind::Csg(c) => c.transmittance(&local, t_min, t_max, pass),
-            Kind::Blob { blob, material } => {
-                let mut through = Vec3::ONE;
-                blob.crossings(&local, |t| {
-                    if t > t_min && t < t_max {
-                        through *= pass(*material);
+            Kind::Solid { solid, material } => through(*material, pass, (t_min, t_max), |each| {
+                for c in solid.crossings(&local).as_slice() {
+                    if each(c.t) {
+                        break;
                     }
-                    t >= t_max || through == Vec3::ZERO
-                });
-                through
+                }
+            }),
+            Kind::Blob { blob, material } => {
+                through(*material, pass, (t_min, t_max), |each| blob.crossings(&local, each))
             }
-            Kind::Flake { flake, material } => {
-                let mut through = Vec3::ONE;
-                flake.crossings(&local, t_min, t_max, &mut |_| {
-                    through *= pass(*material);
-                    through == Vec3::ZERO
-                });
-                through
-            }
-            Kind::Menger { sponge, material } => {
-                let mut through = Vec3::ONE;
-                sponge.crossings(&local, t_min, t_max, &mut |_| {
-                    through *= pass(*material);
-                    through == Vec3::ZERO
-                });
-                through
-            }
+            Kind::Flake { flake, material } => through(*material, pass, (t_min, t_max), |each| {
+                flake.crossings(&local, t_min, t_max, each)
+            }),
+            Kind::Menger { sponge, material } => through(*material, pass, (t_min, t_max), |each| {
+                sponge.crossings(&local, t_min, t_max, each)
+            }),
         }
     }
 
