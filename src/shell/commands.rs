@@ -80,6 +80,14 @@ impl Args<'_> {
 
 pub(super) type Shared = Rc<RefCell<Builder>>;
 
+/// The builder, to change: counted as a change (a render after it traces
+/// again).
+pub(super) fn edit(scene: &Shared) -> std::cell::RefMut<'_, Builder> {
+    let mut b = scene.borrow_mut();
+    b.generation += 1;
+    b
+}
+
 /// Registers a numeric scene command that changes the builder.
 pub(super) fn numeric(
     interp: &mut Interp,
@@ -93,8 +101,7 @@ pub(super) fn numeric(
     let s = scene.clone();
     let (n, u) = (name.to_string(), usage.to_string());
     interp.register_numeric(name, arity, usage, summary, move |_, nums| {
-        let mut b = s.borrow_mut();
-        b.generation += 1;
+        let mut b = edit(&s);
         f(&mut b, &Args { nums, name: &n, usage: &u })
     });
 }
@@ -149,8 +156,7 @@ pub(super) fn numeric_opt(
                 ))
             })?);
         }
-        let mut b = s.borrow_mut();
-        b.generation += 1;
+        let mut b = edit(&s);
         f(&mut b, &Args { nums: &nums, name: &n, usage: &u }, nums.len())?;
         Ok(Value::empty())
     });
@@ -433,8 +439,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
                 Some(v) => Some(finite_arg(v, "filter: radius")? as f32),
                 None => None,
             };
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             b.sampling.filter = Filter::new(kind, radius).map_err(e)?;
             Ok(Value::empty())
         },
@@ -451,8 +456,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
                 Some(v) => Some(v.as_int()?),
                 None => None,
             };
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             b.sampling.set_adaptive(threshold, max).map_err(e)?;
             Ok(Value::empty())
         },
@@ -465,8 +469,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         move |_, argv| {
             check_args(argv, 2, 2, "clamp|reinhard|aces")?;
             let t = choice(&argv[1], "tone map", Tonemap::parse, Tonemap::NAMES)?;
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             b.sampling.tonemap = t;
             Ok(Value::empty())
         },
@@ -502,8 +505,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         "fileName ?-scale s? ?-translate x y z? ?-subdivide n? ?-flat?",
         "add an OBJ mesh with the current material; returns its triangle count",
         move |_, argv| {
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             mesh_command(&mut b, argv)
         },
     );

@@ -9,7 +9,7 @@ use crate::geometry::CsgOp;
 use crate::interp::{Exception, Interp, Value, check_args};
 use crate::scene::Builder;
 
-use super::commands::{Shared, choice, finite_arg, numeric, numeric_opt, scene_err};
+use super::commands::{Shared, choice, edit, finite_arg, numeric, numeric_opt, scene_err};
 
 /// `n` numbers, then optionally the flag `flag`: the numbers and whether
 /// the flag was given.
@@ -56,13 +56,11 @@ fn around(
     end: impl FnOnce(&mut Builder, bool) -> Result<(), crate::scene::SceneError>,
 ) -> Result<Value, Exception> {
     {
-        let mut b = scene.borrow_mut();
-        b.generation += 1;
+        let mut b = edit(scene);
         begin(&mut b).map_err(scene_err)?;
     }
     let r = interp.eval(script);
-    let mut b = scene.borrow_mut();
-    b.generation += 1;
+    let mut b = edit(scene);
     let ended = end(&mut b, r.is_ok());
     r?;
     ended.map_err(scene_err)?;
@@ -96,8 +94,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
             let usage = "x0 y0 z0 x1 y1 z1 r ?-open?";
             let names = ["x0", "y0", "z0", "x1", "y1", "z1", "r"];
             let (n, open) = numbers_and_flag(argv, &names, "-open", usage)?;
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             let (a, c) = (DVec3::new(n[0], n[1], n[2]), DVec3::new(n[3], n[4], n[5]));
             b.cone(a, n[6], c, n[6], !open).map_err(e)?;
             Ok(Value::empty())
@@ -112,8 +109,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
             let usage = "x0 y0 z0 r0 x1 y1 z1 r1 ?-open?";
             let names = ["x0", "y0", "z0", "r0", "x1", "y1", "z1", "r1"];
             let (n, open) = numbers_and_flag(argv, &names, "-open", usage)?;
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             let (a, c) = (DVec3::new(n[0], n[1], n[2]), DVec3::new(n[4], n[5], n[6]));
             b.cone(a, n[3], c, n[7], !open).map_err(e)?;
             Ok(Value::empty())
@@ -210,8 +206,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
             let f = std::fs::File::open(&path).map_err(|e| {
                 Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
             })?;
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             let c = super::nff::load(&mut b, &path, std::io::BufReader::new(f))
                 .map_err(Exception::error)?;
             let n = |x: u64| Value::from_int(x as i64);
@@ -308,8 +303,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
         "place a group under the current transform",
         move |_, argv| {
             check_args(argv, 2, 2, "name")?;
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             b.instance(argv[1].as_str()).map_err(scene_err)?;
             Ok(Value::empty())
         },

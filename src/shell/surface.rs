@@ -8,7 +8,7 @@ use glam::Vec3;
 use crate::interp::{Exception, Interp, Value, check_args};
 use crate::scene::{Bump, Displace, Highlight, Image, Mapping, Pattern, Texture};
 
-use super::commands::{Shared, finite_arg, scene_err};
+use super::commands::{Shared, edit, finite_arg, scene_err};
 
 /// Words `from..` as numbers, each named in errors as `cmd: what`.
 fn numbers(argv: &[Value], from: usize, what: &str) -> Result<Vec<f32>, Exception> {
@@ -74,8 +74,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
                 check_args(argv, 4, 4, "image fileName amount")?;
                 let amount = finite_arg(&argv[3], "displace image: amount")? as f32;
                 let (_, img) = load_image(&s, argv[2].as_str())?;
-                let mut b = s.borrow_mut();
-                b.generation += 1;
+                let mut b = edit(&s);
                 b.displace = Some(Displace { amount, size: 1.0, image: Some(img) });
                 return Ok(Value::empty());
             }
@@ -100,8 +99,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
                     )));
                 }
             };
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             b.displace = d;
             Ok(Value::empty())
         },
@@ -117,8 +115,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
             let kind = argv[1].as_str();
             if kind == "image" {
                 let t = image_texture(&s, argv)?;
-                let mut b = s.borrow_mut();
-                b.generation += 1;
+                let mut b = edit(&s);
                 b.set_texture(Some(t)).map_err(scene_err)?;
                 return Ok(Value::empty());
             }
@@ -146,8 +143,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
                     Some(Texture::Pattern { kind: p, a, b, scale })
                 }
             };
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             b.set_texture(t).map_err(scene_err)?;
             Ok(Value::empty())
         },
@@ -173,8 +169,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
                     )));
                 }
             };
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             b.set_highlight(h).map_err(scene_err)?;
             Ok(Value::empty())
         },
@@ -191,8 +186,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
                 let amount = finite_arg(&argv[3], "bump image: amount")? as f32;
                 let m = mapping(&argv[4])?;
                 let (id, _) = load_image(&s, argv[2].as_str())?;
-                let mut b = s.borrow_mut();
-                b.generation += 1;
+                let mut b = edit(&s);
                 b.set_bump(Some(Bump { amount, size: 1.0, image: Some((id, m)) }))
                     .map_err(scene_err)?;
                 return Ok(Value::empty());
@@ -212,8 +206,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
                     )));
                 }
             };
-            let mut b = s.borrow_mut();
-            b.generation += 1;
+            let mut b = edit(&s);
             b.set_bump(bump).map_err(scene_err)?;
             Ok(Value::empty())
         },
