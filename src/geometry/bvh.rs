@@ -13,6 +13,7 @@ use rayon::prelude::*;
 
 use super::aabb::ROBUST;
 use super::blocks::{self, Block, Pre4, Rec};
+use super::object::ShadowHit;
 use super::object::{Local, Located, Object};
 use super::shapes::RayPre;
 use super::{Aabb, Hit, Ray, Shape};
@@ -544,7 +545,7 @@ impl Bvh {
         prims: &[u32],
         ray: &Ray,
         (t_min, t_max): (f32, f32),
-        pass: &mut dyn FnMut(u32) -> Vec3,
+        pass: &mut dyn FnMut(ShadowHit) -> Vec3,
     ) -> Vec3 {
         let mut through = Vec3::ONE;
         for &prim in prims.iter().filter(|&&p| p != blocks::NONE) {
@@ -557,15 +558,15 @@ impl Bvh {
         through
     }
 
-    /// What reaches the end of a shadow segment: the product of
-    /// `pass(material)` over every surface crossed in `(t_min, t_max)`
-    /// (zero for an opaque one, which ends the search at once).
+    /// What reaches the end of a shadow segment: the product of `pass`
+    /// over every surface crossed in `(t_min, t_max)` (zero for an opaque
+    /// one, which ends the search at once).
     pub fn transmittance(
         &self,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
-        mut pass: impl FnMut(u32) -> Vec3,
+        mut pass: impl FnMut(ShadowHit) -> Vec3,
     ) -> Vec3 {
         let mut through = Vec3::ONE;
         if !self.unbounded.is_empty() {
@@ -579,11 +580,17 @@ impl Bvh {
         let material = |prim: u32| self.recs[prim as usize].material;
         self.traverse(ray, t_min, &mut t_end, |tris, spheres, objects, t_max| {
             for b in tris {
-                let (mut mask, _, _) = b.triangles(&pre, t_min, *t_max);
+                let (mut mask, t, [u, v, w]) = b.triangles(&pre, t_min, *t_max);
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
-                    through *= pass(material(b.prim[l]));
+                    let rec = &self.recs[b.prim[l] as usize];
+                    let det = u[l] + v[l] + w[l];
+                    through *= pass(ShadowHit {
+                        corners: rec.normals,
+                        uv: [v[l] / det, w[l] / det],
+                        ..ShadowHit::new(rec.material, t[l])
+                    });
                     if through == Vec3::ZERO {
                         return true;
                     }
@@ -597,7 +604,7 @@ impl Bvh {
                     mask &= mask - 1;
                     let mut from = t_min;
                     while let Some(t) = b.sphere(l, ray, from, *t_max) {
-                        through *= pass(material(b.prim[l]));
+                        through *= pass(ShadowHit::new(material(b.prim[l]), t));
                         if through == Vec3::ZERO {
                             return true;
                         }

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::blob::Blob;
-use super::object::{Local, Located, Place};
+use super::object::{Local, Located, Place, ShadowHit};
 use super::solid::Solid;
 use super::{Aabb, Bvh, Ray, Shape};
 
@@ -185,14 +185,13 @@ impl Csg {
         found
     }
 
-    /// The product of `pass(material)` over the surfaces crossed in
-    /// `(t_min, t_max)`.
+    /// The product of `pass` over the surfaces crossed in `(t_min, t_max)`.
     pub fn transmittance(
         &self,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
-        pass: &mut dyn FnMut(u32) -> Vec3,
+        pass: &mut dyn FnMut(ShadowHit) -> Vec3,
     ) -> Vec3 {
         let mut through = Vec3::ONE;
         self.surfaces(ray, |t, leaf| {
@@ -200,7 +199,7 @@ impl Csg {
                 return true;
             }
             if t > t_min {
-                through *= pass(self.leaves[leaf as usize].material);
+                through *= pass(ShadowHit::new(self.leaves[leaf as usize].material, t));
             }
             through == Vec3::ZERO
         });

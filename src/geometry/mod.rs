@@ -22,7 +22,7 @@ pub use csg::{
     Op as CsgOp,
 };
 pub use fractal::{Flake, MAX_DEPTH as FRACTAL_MAX_DEPTH, Menger};
-pub use object::{Kind, Local, Located, Object, Place};
+pub use object::{Kind, Local, Located, Object, Place, ShadowHit};
 pub use ray::Ray;
 pub use shapes::{
     Hit, RayPre, Shape, Triangle, intersect_brute, intersect_sphere, intersect_triangle,

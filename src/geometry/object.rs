@@ -105,13 +105,50 @@ pub struct Object {
     pub kind: Kind,
 }
 
+/// A surface a shadow ray crosses, as `transmittance`'s `pass` sees it:
+/// its material and distance, and for textures (as `Located` has them) a
+/// triangle's corners (indices of its normals and texture coordinates,
+/// `Triangle::FLAT` if none) with the barycentric weights, and the level
+/// the surface was written in.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowHit {
+    pub material: u32,
+    pub t: f32,
+    pub corners: [u32; 3],
+    pub uv: [f32; 2],
+    pub level: Option<Affine3A>,
+    pub moved: Vec3,
+}
+
+impl ShadowHit {
+    pub fn new(material: u32, t: f32) -> ShadowHit {
+        ShadowHit {
+            material,
+            t,
+            corners: [super::Triangle::FLAT; 3],
+            uv: [0.0; 2],
+            level: None,
+            moved: Vec3::ZERO,
+        }
+    }
+}
+
+/// A level and motion seen from one level up, through `place` at `time`.
+fn lift(level: &mut Option<Affine3A>, moved: &mut Vec3, place: &Place, time: f32) {
+    match (place.at(time), level.as_mut()) {
+        (Some(m), Some(l)) => *l *= m,
+        (_, None) => *moved += place.velocity * time,
+        (None, Some(_)) => {}
+    }
+}
+
 /// What passes the crossings of a surface of one material: the product of
-/// `pass(material)` over each crossing `cross` reports (in order) inside
+/// `pass` over each crossing `cross` reports (in order) inside
 /// `(t_min, t_max)`, stopping at the first past `t_max` or once nothing
 /// passes.
 fn through(
     material: u32,
-    pass: &mut dyn FnMut(u32) -> Vec3,
+    pass: &mut dyn FnMut(ShadowHit) -> Vec3,
     (t_min, t_max): (f32, f32),
     cross: impl FnOnce(&mut dyn FnMut(f32) -> bool),
 ) -> Vec3 {
@@ -121,7 +158,7 @@ fn through(
             return true;
         }
         if t > t_min {
-            through *= pass(material);
+            through *= pass(ShadowHit::new(material, t));
         }
         through == Vec3::ZERO
     });
@@ -165,15 +202,9 @@ impl Located {
     /// `self` as seen from one level up, through `place` at `time`.
     fn within(mut self, place: &Place, time: f32) -> Located {
         if let Some(m) = place.at(time) {
-            let compose = |inner: Option<Affine3A>| Some(inner.map_or(m, |i| i * m));
-            self.to_local = compose(self.to_local);
-            if self.level.is_some() {
-                self.level = compose(self.level);
-            }
+            self.to_local = Some(self.to_local.map_or(m, |i| i * m));
         }
-        if self.level.is_none() {
-            self.moved += place.velocity * time;
-        }
+        lift(&mut self.level, &mut self.moved, place, time);
         self
     }
 }
@@ -229,15 +260,25 @@ impl Object {
     }
 
     /// What passes through the object between `t_min` and `t_max`: the
-    /// product of `pass(material)` over the surfaces crossed.
+    /// product of `pass` over the surfaces crossed.
     pub fn transmittance(
         &self,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
-        pass: &mut dyn FnMut(u32) -> Vec3,
+        pass: &mut dyn FnMut(ShadowHit) -> Vec3,
     ) -> Vec3 {
         let local = self.place.local(ray);
+        // Crossings come back to this level as `locate`'s hits do.
+        let instance = matches!(self.kind, Kind::Tree(_)) && self.place.to_local.is_some();
+        let mut pass = |mut h: ShadowHit| {
+            if instance {
+                h.level = Some(h.level.unwrap_or(Affine3A::IDENTITY));
+            }
+            lift(&mut h.level, &mut h.moved, &self.place, ray.time);
+            pass(h)
+        };
+        let pass = &mut pass;
         match &self.kind {
             Kind::Tree(t) => t.transmittance(&local, t_min, t_max, pass),
             Kind::Csg(c) => c.transmittance(&local, t_min, t_max, pass),

@@ -6,8 +6,9 @@
 //! + Ks·(reflected ray) + T·colour·(transmitted ray, Snell's law)
 //! ```
 //!
-//! Glass filters by T·colour at each surface crossed, for the view through
-//! it and for the shadows it casts alike. Total internal reflection sends
+//! Glass filters by T·colour (the texture's where it has one) at each
+//! surface crossed, for the view through it and for the shadows it casts
+//! alike. Total internal reflection sends
 //! everything that would have been transmitted back in, undimmed.
 //! Refraction follows the media a ray is inside (`Media`), so an air
 //! bubble in glass bends light from 1.5 to 1, not from 1 to 1.
@@ -24,7 +25,7 @@ use std::sync::Mutex;
 
 use super::job::{Job, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
-use crate::geometry::{Hit, Local, Located, Ray, Triangle, intersect_brute};
+use crate::geometry::{Hit, Local, Located, Ray, ShadowHit, Triangle, intersect_brute};
 use crate::image::Image;
 use crate::scene::{Highlight, Material, Scene, texture};
 
@@ -605,8 +606,9 @@ fn shade(
             // Stop short of the light by the same margin as the start.
             let t_max =
                 if dist_s.is_finite() { dist_s * (1.0 - 2.0 * OFFSET) } else { f32::INFINITY };
-            let through = scene.transmittance(&ray.spawn(shadow_origin, l_s), t_max, |m| {
-                filter(&scene.materials[m as usize])
+            let shadow = ray.spawn(shadow_origin, l_s);
+            let through = scene.transmittance(&shadow, t_max, |h| {
+                transmit(scene, &shadow, h, cone(scene, p, ray.origin))
             });
             if through == Vec3::ZERO {
                 continue;
@@ -634,7 +636,7 @@ fn shade(
             };
             match refract(d, ns, n_from / beyond.ior()) {
                 Some(dir) => {
-                    let f = filter(m);
+                    let f = m.t * colour;
                     if weight * f.max_element() >= MIN_WEIGHT {
                         st.refracted += 1;
                         let r = ray.spawn(p - ng * eps, dir);
@@ -681,55 +683,138 @@ impl Look {
         if plain {
             return Look { colour: m.color, normal: ns, tangent: Vec3::ZERO };
         }
-        // World to texture coordinates: through the group the object was
-        // written in (or back from the eye), then its own inverse transform.
-        let level = at.level.unwrap_or(glam::Affine3A::from_translation(scene.origin - at.moved));
-        let to_tex = m.to_texture.map_or(level, |t| t * level);
+        let to_tex = texture_frame(scene, m, at.level, at.moved);
         let q = to_tex.transform_point3(p);
-        // The ray cone's width here, in texture units (its mean scale); a
-        // pixel's n samples each cover 1/n of it.
-        let footprint = (p - origin).length() * scene.camera.pixel_spread()
-            / (scene.sampling.samples as f32).sqrt()
-            * to_tex.matrix3.determinant().abs().cbrt();
-        let colour = m.texture.and_then(|t| t.at(q, &scene.images, footprint)).unwrap_or(m.color);
-        // Gradients and axes come back by the transpose and the inverse.
+        let cone = cone(scene, p, origin);
+        // In texture units (their mean scale).
+        let scale = to_tex.matrix3.determinant().abs().cbrt();
+        let coords = surface_uv(scene, at);
+        let tex = texture::TexPoint {
+            p: q,
+            uv: coords.map(|c| (c.uv, c.du.length().max(c.dv.length()) / scale)),
+        };
+        let colour =
+            m.texture.and_then(|t| t.at(tex, &scene.images, cone * scale)).unwrap_or(m.color);
         let normal = match m.bump {
             None => ns,
             Some(b) => {
-                let g = match b.image {
-                    None => texture::noise_gradient(q / b.size) * (b.amount / b.size),
-                    Some((id, mapping)) => {
-                        // Central differences half a texel (of the planar
-                        // unit square) wide.
+                // The height's gradient, in world coordinates.
+                let g: Vec3 = match (b.image, coords) {
+                    (None, _) => {
+                        let g = texture::noise_gradient(q / b.size) * (b.amount / b.size);
+                        (to_tex.matrix3.transpose() * glam::Vec3A::from(g)).into()
+                    }
+                    (Some((id, mapping)), coords) => {
+                        // Central differences half a texel (of the unit
+                        // square) wide: along u and v for the uv mapping,
+                        // along the axes of texture space for the others.
                         let img = &scene.images[id as usize];
                         let (w, h) = img.size();
                         let e = 0.5 / w.max(h) as f32;
-                        let height = |q: Vec3| {
-                            let (u, v, _) = mapping.uv(q);
-                            b.amount
-                                * crate::scene::luminance(img.sample(
-                                    u - u.floor(),
-                                    v - v.floor(),
-                                    1.0,
-                                ))
+                        let height = |t: texture::TexPoint| {
+                            let (u, v, _) = mapping.uv(t);
+                            let c = img.sample(u - u.floor(), v - v.floor(), 1.0);
+                            b.amount * crate::scene::luminance(c)
                         };
-                        let d = |a: Vec3| (height(q + a * e) - height(q - a * e)) / (2.0 * e);
-                        Vec3::new(d(Vec3::X), d(Vec3::Y), d(Vec3::Z))
+                        match coords {
+                            Some(c) if mapping == texture::Mapping::Uv => {
+                                let at = |du: f32, dv: f32| {
+                                    let uv = [c.uv[0] + du, c.uv[1] + dv];
+                                    height(texture::TexPoint { p: q, uv: Some((uv, 1.0)) })
+                                };
+                                let (gu, gv) = (
+                                    (at(e, 0.0) - at(-e, 0.0)) / (2.0 * e),
+                                    (at(0.0, e) - at(0.0, -e)) / (2.0 * e),
+                                );
+                                c.du * gu + c.dv * gv
+                            }
+                            _ => {
+                                let d = |a: Vec3| {
+                                    (height((q + a * e).into()) - height((q - a * e).into()))
+                                        / (2.0 * e)
+                                };
+                                let g = Vec3::new(d(Vec3::X), d(Vec3::Y), d(Vec3::Z));
+                                (to_tex.matrix3.transpose() * glam::Vec3A::from(g)).into()
+                            }
+                        }
                     }
                 };
-                let g = (to_tex.matrix3.transpose() * glam::Vec3A::from(g)).into();
                 let along: Vec3 = g - ns * ns.dot(g);
                 let side = if front { 1.0 } else { -1.0 };
                 (ns - side * along).try_normalize().unwrap_or(ns)
             }
         };
-        let axis = |a: Vec3| {
-            let w: Vec3 = (to_tex.matrix3.inverse() * glam::Vec3A::from(a)).into();
-            (w - normal * normal.dot(w)).try_normalize()
-        };
-        let tangent = axis(Vec3::X).or_else(|| axis(Vec3::Z)).unwrap_or(Vec3::ZERO);
+        let onto = |w: Vec3| (w - normal * normal.dot(w)).try_normalize();
+        let axis = |a: Vec3| onto((to_tex.matrix3.inverse() * glam::Vec3A::from(a)).into());
+        // Along u: the texture coordinates' where there are any.
+        let tangent = coords
+            .and_then(|c| onto(c.du))
+            .or_else(|| axis(Vec3::X))
+            .or_else(|| axis(Vec3::Z))
+            .unwrap_or(Vec3::ZERO);
         Look { colour, normal, tangent }
     }
+}
+
+/// World to texture coordinates for material `m` of a surface in the
+/// level `level` (`None`: the scene's, `moved` by its motion): through the
+/// group the object was written in (or back from the eye), then the
+/// object's own inverse transform.
+fn texture_frame(
+    scene: &Scene,
+    m: &Material,
+    level: Option<glam::Affine3A>,
+    moved: Vec3,
+) -> glam::Affine3A {
+    let level = level.unwrap_or(glam::Affine3A::from_translation(scene.origin - moved));
+    m.to_texture.map_or(level, |t| t * level)
+}
+
+/// The width of the ray cone at `p` of a camera ray from `origin`, in
+/// world units; a pixel's n samples each cover 1/n of it.
+fn cone(scene: &Scene, p: Vec3, origin: Vec3) -> f32 {
+    (p - origin).length() * scene.camera.pixel_spread() / (scene.sampling.samples as f32).sqrt()
+}
+
+/// The texture coordinates of a triangle's corners (as `corners`, its
+/// normals' indices, find them), if it has them.
+fn corner_uvs(scene: &Scene, corners: [u32; 3]) -> Option<[[f32; 2]; 3]> {
+    let corner = |i: u32| scene.uvs.get(i as usize).copied().filter(|c| !c[0].is_nan());
+    let [Some(a), Some(b), Some(c)] = corners.map(corner) else { return None };
+    Some([a, b, c])
+}
+
+/// The texture coordinates at barycentric point (u, v) of corners `c`.
+fn blend(c: [[f32; 2]; 3], [u, v]: [f32; 2]) -> [f32; 2] {
+    let w = [1.0 - u - v, u, v];
+    [0, 1].map(|k| c[0][k] * w[0] + c[1][k] * w[1] + c[2][k] * w[2])
+}
+
+/// A surface's texture coordinates at a hit, and how they change along it.
+#[derive(Clone, Copy, Debug)]
+struct SurfaceUv {
+    uv: [f32; 2],
+    /// The gradients of u and of v along the surface, in world units.
+    du: Vec3,
+    dv: Vec3,
+}
+
+/// The texture coordinates of a hit on a triangle whose corners have them.
+fn surface_uv(scene: &Scene, at: &Located) -> Option<SurfaceUv> {
+    let Local::Triangle(t) = &at.local else { return None };
+    let [a, b, c] = corner_uvs(scene, t.normals)?;
+    let uv = blend([a, b, c], at.uv);
+    // The gradient g in the triangle's plane with g·e1 = d1 and g·e2 = d2.
+    let (e1, e2) = (t.p[1] - t.p[0], t.p[2] - t.p[0]);
+    let n = e1.cross(e2);
+    let grad = |d1: f32, d2: f32| (e2.cross(n) * d1 + n.cross(e1) * d2) / n.length_squared();
+    let (du, dv) = (grad(b[0] - a[0], c[0] - a[0]), grad(b[1] - a[1], c[1] - a[1]));
+    // Gradients leave the triangle's coordinates by the transpose.
+    let out = |g: Vec3| match at.to_local {
+        None => g,
+        Some(m) => (m.matrix3.transpose() * glam::Vec3A::from(g)).into(),
+    };
+    Some(SurfaceUv { uv, du: out(du), dv: out(dv) })
 }
 
 /// The specular term per unit of light and of Ks, for light from `l` seen
@@ -763,8 +848,24 @@ fn highlight(m: &Material, look: &Look, l: Vec3, view: Vec3, n_dot_l: f32) -> f3
 
 /// How much of the light a transmitting surface lets through at each
 /// crossing (T·colour); opaque surfaces, none.
-fn filter(m: &Material) -> Vec3 {
-    if m.t > 0.0 { m.t * m.color } else { Vec3::ZERO }
+/// What a shadow ray keeps of the light crossing surface `h`: T times the
+/// colour there (the texture's, where the material has one, sampled for a
+/// ray cone `cone` wide), nothing through an opaque surface.
+fn transmit(scene: &Scene, ray: &Ray, h: ShadowHit, cone: f32) -> Vec3 {
+    let m = &scene.materials[h.material as usize];
+    if m.t <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let Some(texture) = m.texture else { return m.t * m.color };
+    let to_tex = texture_frame(scene, m, h.level, h.moved);
+    let scale = to_tex.matrix3.determinant().abs().cbrt();
+    // Texture coordinates change at an unknown rate here: taken as one
+    // unit per unit of distance.
+    let tex = texture::TexPoint {
+        p: to_tex.transform_point3(ray.at(h.t)),
+        uv: corner_uvs(scene, h.corners).map(|c| (blend(c, h.uv), 1.0 / scale)),
+    };
+    m.t * texture.at(tex, &scene.images, cone * scale).unwrap_or(m.color)
 }
 
 /// The weight of a totally internally reflected ray.

@@ -77,6 +77,10 @@ pub struct MeshData {
     pub tris: Vec<[u32; 3]>,
     /// Per-corner normal indices, when the file gives normals.
     pub normal_tris: Option<Vec<[u32; 3]>>,
+    /// Texture coordinates (OBJ `vt`: u right, v up).
+    pub uvs: Vec<[f32; 2]>,
+    /// Per-corner texture coordinate indices, when every face has them.
+    pub uv_tris: Option<Vec<[u32; 3]>>,
 }
 
 /// A primitive as the script gave it. Triangles keep pool indices (checked
@@ -135,6 +139,10 @@ pub struct Builder {
     /// Placed positions of `mesh` files.
     pub mesh_vertices: Vec<DVec3>,
     pub normals: Vec<Vec3>,
+    /// Texture coordinates beside `normals`: a smooth corner's normal index
+    /// is also its uv's. Shorter than `normals` (or NaN) where no mesh gave
+    /// any.
+    pub uvs: Vec<[f32; 2]>,
     pub prims: Vec<Prim>,
     /// Where `motion` changed: from primitive `.0` on, primitives move at
     /// velocity `.1` (scene units per unit of time); none before the first.
@@ -193,6 +201,7 @@ impl Default for Builder {
             vertices: Vec::new(),
             mesh_vertices: Vec::new(),
             normals: Vec::new(),
+            uvs: Vec::new(),
             prims: Vec::new(),
             motion: Vec::new(),
             objects: Vec::new(),
@@ -594,9 +603,6 @@ impl Builder {
                 size: n_v,
             });
         }
-        if self.normals.len() + n_v >= u32::MAX as usize {
-            return Err(SceneError::Capacity { what: "normals" });
-        }
         if self.mesh_vertices.len() + n_v >= u32::MAX as usize {
             return Err(SceneError::Capacity { what: "mesh vertices" });
         }
@@ -606,10 +612,40 @@ impl Builder {
         if positions.iter().any(|&p| position(p).is_err()) {
             return Err(SceneError::NotFinite);
         }
-        // Normal indices into the scene's pool, per corner.
-        let base = self.normals.len() as u32;
-        let corner_normals: Option<Vec<[u32; 3]>> = if flat {
-            None
+        let face_normal = |t: &[u32; 3]| {
+            (positions[t[1] as usize] - positions[t[0] as usize])
+                .cross(positions[t[2] as usize] - positions[t[0] as usize])
+        };
+        let uv_tris = match &mesh.uv_tris {
+            Some(ut) if ut.len() == mesh.tris.len() => {
+                if let Some(bad) = ut.iter().flatten().find(|&&i| i as usize >= mesh.uvs.len()) {
+                    return Err(SceneError::IndexOutOfRange {
+                        pool: "mesh texture coordinate",
+                        index: *bad as i64,
+                        size: mesh.uvs.len(),
+                    });
+                }
+                Some(ut)
+            }
+            _ => None,
+        };
+        // This mesh's normals, and each corner's index among them.
+        let (normals, corners): (Vec<Vec3>, Option<Vec<[u32; 3]>>) = if flat {
+            match uv_tris {
+                // Texture coordinates need corners: the face's own normal
+                // at each is flat shading still.
+                Some(_) => {
+                    let normals = mesh
+                        .tris
+                        .iter()
+                        .flat_map(|t| [face_normal(t).normalize_or(DVec3::Y).as_vec3(); 3])
+                        .collect();
+                    let corners =
+                        (0..mesh.tris.len() as u32).map(|k| [3 * k, 3 * k + 1, 3 * k + 2]);
+                    (normals, Some(corners.collect()))
+                }
+                None => (Vec::new(), None),
+            }
         } else if let (Some(nt), false) = (&mesh.normal_tris, mesh.normals.is_empty()) {
             if let Some(bad) = nt.iter().flatten().find(|&&i| i as usize >= mesh.normals.len()) {
                 return Err(SceneError::IndexOutOfRange {
@@ -618,23 +654,58 @@ impl Builder {
                     size: mesh.normals.len(),
                 });
             }
-            self.normals
-                .extend(mesh.normals.iter().map(|n| turn(*n).try_normalize().unwrap_or(Vec3::Y)));
-            Some(nt.iter().map(|t| t.map(|i| base + i)).collect())
+            let normals =
+                mesh.normals.iter().map(|n| turn(*n).try_normalize().unwrap_or(Vec3::Y)).collect();
+            (normals, Some(nt.clone()))
         } else {
             let mut acc = vec![DVec3::ZERO; n_v];
             for t in &mesh.tris {
-                let n = (positions[t[1] as usize] - positions[t[0] as usize])
-                    .cross(positions[t[2] as usize] - positions[t[0] as usize]);
+                let n = face_normal(t);
                 for &i in t {
                     acc[i as usize] += n;
                 }
             }
-            self.normals.extend(
-                acc.iter().map(|n| n.try_normalize().map(DVec3::as_vec3).unwrap_or(Vec3::Y)),
-            );
-            Some(mesh.tris.iter().map(|t| t.map(|i| base + i)).collect())
+            let normals = acc
+                .iter()
+                .map(|n| n.try_normalize().map(DVec3::as_vec3).unwrap_or(Vec3::Y))
+                .collect();
+            (normals, Some(mesh.tris.clone()))
         };
+        // With texture coordinates, one entry per (normal, uv) pair used.
+        let (normals, uvs, corners) = match (uv_tris, corners) {
+            (Some(ut), Some(corners)) => {
+                let mut pairs: std::collections::HashMap<(u32, u32), u32> = Default::default();
+                let (mut ns, mut uvs) = (Vec::new(), Vec::new());
+                let corners = corners
+                    .iter()
+                    .zip(ut)
+                    .map(|(c, t)| {
+                        std::array::from_fn(|k| {
+                            *pairs.entry((c[k], t[k])).or_insert_with(|| {
+                                ns.push(normals[c[k] as usize]);
+                                uvs.push(mesh.uvs[t[k] as usize]);
+                                ns.len() as u32 - 1
+                            })
+                        })
+                    })
+                    .collect();
+                (ns, uvs, Some(corners))
+            }
+            (_, corners) => (normals, Vec::new(), corners),
+        };
+        if self.normals.len() + normals.len() >= u32::MAX as usize {
+            return Err(SceneError::Capacity { what: "normals" });
+        }
+        crate::mem::room(&self.normals, normals.len())?;
+        let base = self.normals.len() as u32;
+        if !uvs.is_empty() {
+            crate::mem::room(&self.uvs, normals.len() + self.normals.len() - self.uvs.len())?;
+            self.uvs.resize(self.normals.len(), [f32::NAN; 2]);
+            self.uvs.extend(uvs);
+        }
+        self.normals.extend(normals);
+        let corner_normals: Option<Vec<[u32; 3]>> =
+            corners.map(|c| c.iter().map(|t| t.map(|i| base + i)).collect());
         let vbase = self.mesh_vertices.len() as u32;
         let material = self.material_index()?;
         crate::mem::room(&self.prims, mesh.tris.len())?;

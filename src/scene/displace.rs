@@ -48,21 +48,15 @@ pub const MAX_SUBDIVIDE: u32 = 8;
 pub fn subdivide(mesh: &MeshData, n: u32, displace: Option<&Displace>) -> MeshData {
     let mut positions = mesh.positions.clone();
     let mut tris = mesh.tris.clone();
+    // Texture coordinates are split the same way, corner by corner (a seam
+    // keeps its two sides).
+    let mut uvs = mesh.uvs.clone();
+    let mut uv_tris = mesh.uv_tris.clone();
     for _ in 0..n.min(MAX_SUBDIVIDE) {
-        let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
-        let mut next = Vec::with_capacity(tris.len() * 4);
-        let mut at = |a: u32, b: u32, positions: &mut Vec<Vec3>| {
-            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                positions.push((positions[a as usize] + positions[b as usize]) * 0.5);
-                positions.len() as u32 - 1
-            })
-        };
-        for &[a, b, c] in &tris {
-            let (ab, bc, ca) =
-                (at(a, b, &mut positions), at(b, c, &mut positions), at(c, a, &mut positions));
-            next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        tris = split(&tris, &mut positions, |a, b| (a + b) * 0.5);
+        if let Some(t) = &uv_tris {
+            uv_tris = Some(split(t, &mut uvs, |a, b| [(a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5]));
         }
-        tris = next;
     }
     if let Some(d) = displace {
         let mut normals = vec![Vec3::ZERO; positions.len()];
@@ -77,7 +71,25 @@ pub fn subdivide(mesh: &MeshData, n: u32, displace: Option<&Displace>) -> MeshDa
             *p += n.normalize_or_zero() * d.height(*p);
         }
     }
-    MeshData { positions, normals: Vec::new(), tris, normal_tris: None }
+    MeshData { positions, normals: Vec::new(), tris, normal_tris: None, uvs, uv_tris }
+}
+
+/// Each triangle of `tris` cut in four at its edges' midpoints (made by
+/// `mid` and added to `pool`, once for each edge neighbours share).
+fn split<T: Copy>(tris: &[[u32; 3]], pool: &mut Vec<T>, mid: impl Fn(T, T) -> T) -> Vec<[u32; 3]> {
+    let mut made: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut at = |a: u32, b: u32, pool: &mut Vec<T>| {
+        *made.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            pool.push(mid(pool[a as usize], pool[b as usize]));
+            pool.len() as u32 - 1
+        })
+    };
+    let mut next = Vec::with_capacity(tris.len() * 4);
+    for &[a, b, c] in tris {
+        let (ab, bc, ca) = (at(a, b, pool), at(b, c, pool), at(c, a, pool));
+        next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+    }
+    next
 }
 
 #[cfg(test)]
@@ -98,6 +110,7 @@ mod tests {
             normals: Vec::new(),
             tris: vec![[0, 1, 2], [0, 2, 3]],
             normal_tris: None,
+            ..MeshData::default()
         };
         let flat = subdivide(&square, 2, None);
         assert_eq!((flat.tris.len(), flat.positions.len()), (32, 25));

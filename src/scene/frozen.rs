@@ -15,7 +15,7 @@ use super::objects::{CsgTree, LeafDef, ObjDef, ObjKind};
 use super::texture::Image;
 use crate::geometry::{
     Blob, Bvh, Csg, CsgLeaf, CsgNode, CsgShape, Flake, Hit, Kind, Located, Menger, Object, Place,
-    Ray, Shape,
+    Ray, ShadowHit, Shape,
 };
 
 pub struct Scene {
@@ -25,6 +25,8 @@ pub struct Scene {
     pub bvh: Bvh,
     pub materials: Vec<Material>,
     pub normals: Vec<Vec3>,
+    /// Texture coordinates beside `normals` (see `Builder::uvs`).
+    pub uvs: Vec<[f32; 2]>,
     pub lights: Vec<Light>,
     /// The lights camera and reflected rays can see (those with a size).
     pub emitters: Vec<Light>,
@@ -57,6 +59,7 @@ impl Scene {
             bvh,
             materials: b.materials.clone(),
             normals: b.normals.clone(),
+            uvs: b.uvs.clone(),
             lights: b.lights.iter().map(|l| l.relative_to(b.from)).collect(),
             emitters: b
                 .lights
@@ -89,10 +92,14 @@ impl Scene {
     }
 
     /// What reaches the end of the shadow segment `(0, t_max)` along `ray`
-    /// (at its time): the product of `pass(material)` over every surface
-    /// crossed.
+    /// (at its time): the product of `pass` over every surface crossed.
     #[inline(always)]
-    pub fn transmittance(&self, ray: &Ray, t_max: f32, pass: impl FnMut(u32) -> Vec3) -> Vec3 {
+    pub fn transmittance(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        pass: impl FnMut(ShadowHit) -> Vec3,
+    ) -> Vec3 {
         self.bvh.transmittance(ray, 0.0, t_max, pass)
     }
 

@@ -29,16 +29,35 @@ pub enum Mapping {
     Cylindrical,
     /// Longitude and latitude around the origin (map_type 1).
     Spherical,
+    /// The surface's own texture coordinates (a mesh's `vt`); where it has
+    /// none, the planar mapping.
+    Uv,
+}
+
+/// Where a texture is looked up: the point in the coordinates the object
+/// was written in, and the surface's texture coordinates, if it has any,
+/// with how fast they change per unit of those coordinates.
+#[derive(Clone, Copy, Debug)]
+pub struct TexPoint {
+    pub p: Vec3,
+    pub uv: Option<([f32; 2], f32)>,
+}
+
+impl From<Vec3> for TexPoint {
+    fn from(p: Vec3) -> TexPoint {
+        TexPoint { p, uv: None }
+    }
 }
 
 impl Mapping {
-    pub const NAMES: &'static str = "planar, cylindrical or spherical";
+    pub const NAMES: &'static str = "planar, cylindrical, spherical or uv";
 
     pub fn parse(s: &str) -> Option<Mapping> {
         Some(match s {
             "planar" => Mapping::Planar,
             "cylindrical" => Mapping::Cylindrical,
             "spherical" => Mapping::Spherical,
+            "uv" => Mapping::Uv,
             _ => return None,
         })
     }
@@ -47,13 +66,18 @@ impl Mapping {
     /// of distance there (for the filter's footprint). u runs around the y
     /// axis counter-clockwise seen from above, from +x (u = 0) through −z
     /// (u = 1/4); v runs up.
-    pub fn uv(self, p: Vec3) -> (f32, f32, f32) {
+    pub fn uv(self, at: TexPoint) -> (f32, f32, f32) {
+        let p = at.p;
         let around = || {
             let a = (-p.z).atan2(p.x) / std::f32::consts::TAU;
             if a < 0.0 { a + 1.0 } else { a }
         };
         match self {
-            Mapping::Planar => (p.x, p.y, 1.0),
+            Mapping::Uv if at.uv.is_some() => {
+                let ([u, v], rate) = at.uv.unwrap_or_default();
+                (u, v, rate)
+            }
+            Mapping::Planar | Mapping::Uv => (p.x, p.y, 1.0),
             Mapping::Cylindrical => {
                 let rho = (p.x * p.x + p.z * p.z).sqrt().max(1e-6);
                 (around(), p.y, (1.0 / (std::f32::consts::TAU * rho)).max(1.0))
@@ -189,10 +213,15 @@ impl Texture {
     /// The colour at `p`; `images` are the scene's, and `footprint` the
     /// width of the ray's cone there in the same coordinates (for image
     /// filtering). `None` outside a `-once` image.
-    pub fn at(&self, p: Vec3, images: &[std::sync::Arc<Image>], footprint: f32) -> Option<Vec3> {
+    pub fn at(
+        &self,
+        at: TexPoint,
+        images: &[std::sync::Arc<Image>],
+        footprint: f32,
+    ) -> Option<Vec3> {
         Some(match *self {
             Texture::Image { id, mapping, once } => {
-                let (u, v, rate) = mapping.uv(p);
+                let (u, v, rate) = mapping.uv(at);
                 if once && !((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v)) {
                     return None;
                 }
@@ -201,7 +230,7 @@ impl Texture {
                 let texels = footprint * rate * w.max(h) as f32;
                 img.sample(u - u.floor(), v - v.floor(), texels)
             }
-            t => t.pattern_at(p),
+            t => t.pattern_at(at.p),
         })
     }
 
@@ -325,7 +354,7 @@ mod tests {
     #[test]
     fn checker_follows_povray_parity() {
         let t = Texture::Checker { a: Vec3::ONE, b: Vec3::ZERO, size: 0.5 };
-        let at = |p: Vec3| t.at(p, &[], 0.0).unwrap();
+        let at = |p: Vec3| t.at(p.into(), &[], 0.0).unwrap();
         assert_eq!(at(Vec3::new(0.25, 0.25, 0.25)), Vec3::ONE);
         assert_eq!(at(Vec3::new(0.75, 0.25, 0.25)), Vec3::ZERO);
         assert_eq!(at(Vec3::new(-0.25, 0.25, 0.25)), Vec3::ZERO, "⌊−0.5⌋ = −1: odd");

@@ -228,7 +228,7 @@ pub const SCENE: &[Doc] = &[
     },
     Doc {
         name: "texture",
-        meaning: "the colour pattern of the objects made after it (as `material` is, and replacing the material's colour in its ambient and diffuse terms): `checker r1 g1 b1 r2 g2 b2 ?size?` (POV-Ray's checker: colour 1 where ⌊x/size⌋+⌊y/size⌋+⌊z/size⌋ is even); `noise`, `marble`, `wood`, `granite` with optional colours (from, to) and scale, from a Perlin gradient noise of our own and its turbulence; `image FILE planar|cylindrical|spherical ?-once?`, a PNG or PPM laid as POV-Ray's image_map map types 0, 2 and 1, mip-mapped; `none` goes back to the flat colour. Evaluated in the coordinates the object was written in, so it moves with the object's transform and its instances",
+        meaning: "the colour pattern of the objects made after it (as `material` is, and replacing the material's colour in its ambient and diffuse terms and in the light that passes through it): `checker r1 g1 b1 r2 g2 b2 ?size?` (POV-Ray's checker: colour 1 where ⌊x/size⌋+⌊y/size⌋+⌊z/size⌋ is even); `noise`, `marble`, `wood`, `granite` with optional colours (from, to) and scale, from a Perlin gradient noise of our own and its turbulence; `image FILE planar|cylindrical|spherical|uv ?-once?`, a PNG or PPM laid as POV-Ray's image_map map types 0, 2 and 1, or by a mesh's own texture coordinates (OBJ `vt`; planar on surfaces without them), mip-mapped; `none` goes back to the flat colour. Evaluated in the coordinates the object was written in, so it moves with the object's transform and its instances",
         default: "none",
         example: "texture marble 0.95 0.93 0.88 0.25 0.22 0.3 0.6",
     },
@@ -360,7 +360,7 @@ pub const SCENE: &[Doc] = &[
     },
     Doc {
         name: "mesh",
-        meaning: "add an OBJ mesh (read with tobj; a name ending in `.gz` is read as gzip-compressed OBJ) with the current material, scaled then moved; polygons are triangulated; smooth normals from `vn`, or computed from the faces (area-weighted) when the file has none; `-flat` turns smoothing off; `-subdivide n` splits each triangle into four, n times (then `displace` moves the vertices); the current transform places it too; returns the triangle count (its vertices keep out of the `vertex` pool, so `vertex` numbering is unaffected). A bad file is an error naming its line (`bunny.obj:12: bad OBJ line \"f 1 2 x\"`)",
+        meaning: "add an OBJ mesh (read with tobj; a name ending in `.gz` is read as gzip-compressed OBJ) with the current material, scaled then moved; polygons are triangulated; smooth normals from `vn`, or computed from the faces (area-weighted) when the file has none; texture coordinates from `vt` (for `texture image FILE uv`); `-flat` turns smoothing off; `-subdivide n` splits each triangle into four, n times (then `displace` moves the vertices); the current transform places it too; returns the triangle count (its vertices keep out of the `vertex` pool, so `vertex` numbering is unaffected). A bad file is an error naming its line (`bunny.obj:12: bad OBJ line \"f 1 2 x\"`)",
         default: "",
         example: "mesh bunny.obj.gz -scale 6 -translate 0 -0.2 0",
     },

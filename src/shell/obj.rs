@@ -1,7 +1,7 @@
 //! Reading Wavefront OBJ meshes (with tobj; gzip-compressed with flate2)
 //! into `scene::MeshData`. Polygons
-//! are triangulated; `vn` normals are kept; `vt`, materials and groups are
-//! ignored. Each line is checked on its way to tobj, so a bad one is named
+//! are triangulated; `vn` normals and `vt` texture coordinates are kept
+//! (each only when every face has them); materials and groups are ignored. Each line is checked on its way to tobj, so a bad one is named
 //! by its line number.
 
 use std::io::{BufRead, Read};
@@ -48,13 +48,16 @@ fn from_reader(path: &str, reader: impl BufRead) -> Result<MeshData, String> {
     };
     let mut mesh = MeshData::default();
     let mut normal_tris = Vec::new();
-    let mut all_have_normals = true;
+    let mut uv_tris = Vec::new();
+    let (mut all_have_normals, mut all_have_uvs) = (true, true);
     for m in &models {
         let msh = &m.mesh;
         let vbase = mesh.positions.len() as u32;
         let nbase = mesh.normals.len() as u32;
+        let tbase = mesh.uvs.len() as u32;
         mesh.positions.extend(msh.positions.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])));
         mesh.normals.extend(msh.normals.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])));
+        mesh.uvs.extend(msh.texcoords.chunks_exact(2).map(|c| [c[0], c[1]]));
         let n_v = msh.positions.len() / 3;
         for t in msh.indices.chunks_exact(3) {
             if t.iter().any(|&i| i as usize >= n_v) {
@@ -71,9 +74,21 @@ fn from_reader(path: &str, reader: impl BufRead) -> Result<MeshData, String> {
         } else {
             all_have_normals = false;
         }
+        if msh.texcoord_indices.len() == msh.indices.len() && !msh.texcoords.is_empty() {
+            uv_tris.extend(
+                msh.texcoord_indices
+                    .chunks_exact(3)
+                    .map(|t| [tbase + t[0], tbase + t[1], tbase + t[2]]),
+            );
+        } else {
+            all_have_uvs = false;
+        }
     }
     if all_have_normals && !mesh.tris.is_empty() {
         mesh.normal_tris = Some(normal_tris);
+    }
+    if all_have_uvs && !mesh.tris.is_empty() {
+        mesh.uv_tris = Some(uv_tris);
     }
     if mesh.tris.is_empty() {
         return Err(format!("{path}: the file has no faces"));
@@ -139,9 +154,10 @@ fn line_ok(line: &str, counts: &mut [i64; 3]) -> bool {
             counts[0] += 1;
             floats(words, 3)
         }
+        // u and v (a third, w, is ignored).
         Some("vt") => {
             counts[1] += 1;
-            floats(words, 1)
+            floats(words, 2)
         }
         Some("vn") => {
             counts[2] += 1;

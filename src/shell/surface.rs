@@ -18,7 +18,7 @@ fn numbers(argv: &[Value], from: usize, what: &str) -> Result<Vec<f32>, Exceptio
 /// `texture image FILE MAPPING ?-once?`: reads the file into the scene's
 /// images and returns the texture.
 fn image_texture(scene: &Shared, argv: &[Value]) -> Result<Texture, Exception> {
-    let usage = "image fileName planar|cylindrical|spherical ?-once?";
+    let usage = "image fileName planar|cylindrical|spherical|uv ?-once?";
     check_args(argv, 4, 5, usage)?;
     let once = match argv.get(4).map(|v| v.as_str()) {
         None => false,
@@ -51,14 +51,9 @@ fn load_image(scene: &Shared, path: &str) -> Result<(u32, Arc<Image>), Exception
 
 /// A mapping's name.
 fn mapping(v: &Value) -> Result<Mapping, Exception> {
-    match v.as_str() {
-        "uv" => Err(Exception::error(
-            "the uv mapping is not built yet: mesh does not read texture coordinates (issue \"surfaces\" continues)",
-        )),
-        m => Mapping::parse(m).ok_or_else(|| {
-            Exception::error(format!("bad mapping \"{m}\": must be {}", Mapping::NAMES))
-        }),
-    }
+    let m = v.as_str();
+    Mapping::parse(m)
+        .ok_or_else(|| Exception::error(format!("bad mapping \"{m}\": must be {}", Mapping::NAMES)))
 }
 
 /// Registers the commands.
@@ -105,7 +100,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
         },
     );
     let s = scene.clone();
-    let usage = "none | checker r1 g1 b1 r2 g2 b2 ?size? | noise|marble|wood|granite ?r1 g1 b1 r2 g2 b2? ?scale? | image fileName planar|cylindrical|spherical ?-once?";
+    let usage = "none | checker r1 g1 b1 r2 g2 b2 ?size? | noise|marble|wood|granite ?r1 g1 b1 r2 g2 b2? ?scale? | image fileName planar|cylindrical|spherical|uv ?-once?";
     interp.register_host(
         "texture",
         usage,

@@ -86,6 +86,8 @@ fn main() {
         surfaces::blinn_and_ward_highlights_follow_their_formulas,
         surfaces::bad_surfaces_are_located_errors,
         surfaces::image_textures_put_texels_where_their_projection_says,
+        surfaces::uv_textures_follow_the_mesh_coordinates,
+        surfaces::textures_tint_light_through_glass,
         surfaces::mip_maps_keep_far_textures_close_to_supersampled,
         surfaces::displacement_changes_bounds_and_silhouettes,
         surfaces::image_bumps_and_displacements_follow_the_image,

@@ -183,10 +183,9 @@ pub fn bad_surfaces_are_located_errors() {
         ("texture checker 1 0 0 0 0 1 0", "texture size must be above 0"),
         ("texture marble 1 2", "wrong # args"),
         ("texture image a.png planar", "couldn't read \"a.png\""),
-        ("texture image a.png uv", "the uv mapping is not built yet"),
         (
             "texture image a.png polar",
-            "bad mapping \"polar\": must be planar, cylindrical or spherical",
+            "bad mapping \"polar\": must be planar, cylindrical, spherical or uv",
         ),
         ("highlight ward 0 1", "ward roughness must be above 0"),
         ("highlight toon", "bad highlight \"toon\": must be phong, blinn or ward"),
@@ -246,8 +245,10 @@ pub fn image_textures_put_texels_where_their_projection_says() {
         let a = (-z).atan2(x) / tau;
         if a < 0.0 { a + 1.0 } else { a }
     };
-    let cases: [Case; 3] = [
+    let cases: [Case; 4] = [
         ("texture image ramp.ppm planar; plane 0 0 1 0", (0.5, 0.5, 0.5), &|x, y| Some((x, y))),
+        // A surface without texture coordinates: `uv` falls back to planar.
+        ("texture image ramp.ppm uv; plane 0 0 1 0", (0.5, 0.5, 0.5), &|x, y| Some((x, y))),
         ("texture image ramp.ppm spherical; sphere 0 0 0 1", (0.0, 0.0, 1.1), &|x, y| {
             let z2 = 1.0 - x * x - y * y;
             // Seen from +z: the front of the ball.
@@ -286,6 +287,117 @@ pub fn image_textures_put_texels_where_their_projection_says() {
         // The camera is 100 away, not at infinity: its rays meet a curved
         // surface a little off the point straight below (here ≤ 0.01).
         assert!(worst <= 4.0 / 255.0, "{scene}: a pixel is {worst} off");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `texture image FILE uv` lays the image by a mesh's own `vt`
+/// coordinates: a square whose corners carry a turned and shrunk copy of
+/// the unit square shows the texel each point's interpolated (u, v)
+/// names, placed by `-scale` and `-translate`, split by `-subdivide`, or
+/// flat-shaded alike.
+pub fn uv_textures_follow_the_mesh_coordinates() {
+    let dir = scratch("surfaces-uv");
+    ramp_ppm(&dir.join("ramp.ppm"));
+    // u = 0.1 + 0.4(y + 1), v = 0.1 + 0.4(1 − x) on the square [−1, 1]².
+    let uv_of = |x: f64, y: f64| (0.1 + 0.4 * (y + 1.0), 0.1 + 0.4 * (1.0 - x));
+    let mut obj = String::new();
+    for (x, y) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+        let (u, v) = uv_of(x, y);
+        obj += &format!("v {x} {y} 0\nvt {u} {v}\n");
+    }
+    obj += "f 1/1 2/2 3/3 4/4\n";
+    std::fs::write(dir.join("quad.obj"), obj).unwrap();
+    let (w, depth, half) = (64u32, 100.0f64, 1.8);
+    let angle = 2.0 * (half / depth).atan().to_degrees();
+    let view = format!(
+        "camera_resolution {w} {w}; camera_angle {angle}; camera_from 3 0 {depth}; camera_target 3 0 0\n\
+         ambient_light 1 1 1; material 1 1 1 1 0 0 1 0 1; texture image ramp.ppm uv\n"
+    );
+    for options in ["", "-flat", "-subdivide 2"] {
+        let script =
+            format!("{view}mesh quad.obj -scale 2 -translate 3 0 0 {options}; render t.ppm");
+        let img = render(&dir, &script);
+        let (mut checked, mut worst) = (0, 0.0f64);
+        for j in 0..w {
+            for i in 0..w {
+                let sx = 3.0 + ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * half;
+                let sy = (1.0 - (j as f64 + 0.5) / w as f64 * 2.0) * half;
+                // The mesh's own coordinates: scaled by 2, then moved by 3.
+                let (x, y) = ((sx - 3.0) / 2.0, sy / 2.0);
+                if x.abs() > 0.95 || y.abs() > 0.95 {
+                    continue;
+                }
+                let (u, v) = uv_of(x, y);
+                let (r, g) = ramp_at(u, v);
+                let at = ((j * w + i) * 3) as usize;
+                let (gr, gg) = (img.rgb[at] as f64 / 255.0, img.rgb[at + 1] as f64 / 255.0);
+                worst = worst.max((gr - r).abs()).max((gg - g).abs());
+                checked += 1;
+            }
+        }
+        assert!(checked > 2000, "{options}: {checked} pixels checked");
+        assert!(worst <= 3.0 / 255.0, "mesh {options}: a pixel is {worst} off");
+    }
+    // `bump image ramp.ppm A uv` lit head-on: the height A·luminance has
+    // the gradient A·(0.2126·(8/7)·∇u − 0.7152·(8/7)·∇v) (red rises with u,
+    // green falls with v), with ∇u = (0, 0.2, 0) and ∇v = (−0.2, 0, 0) in
+    // the world, so every pixel is 1/√(1 + |∇h|²).
+    let a = 5.0f64;
+    let g = [a * 0.7152 * 8.0 / 7.0 * 0.2, a * 0.2126 * 8.0 / 7.0 * 0.2];
+    let want = 1.0 / (1.0 + g[0] * g[0] + g[1] * g[1]).sqrt();
+    let script = view.replace("texture image ramp.ppm uv", &format!("bump image ramp.ppm {a} uv"))
+        + "parallel_light 1 1 1 0 0 -1; ambient_light 0 0 0; material 1 1 1 0 1 0 1 0 1\n\
+           mesh quad.obj -scale 2 -translate 3 0 0; render t.ppm";
+    let img = render(&dir, &script);
+    let worst = img.rgb.iter().map(|&c| (c as f64 / 255.0 - want).abs()).fold(0.0, f64::max);
+    assert!(worst <= 3.0 / 255.0, "bump uv: {worst} off {want}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A texture tints the light through glass as it tints the glass: a
+/// clear textured pane (T = 1, ior 1) above a white floor, lit and seen
+/// straight from above, filters each floor point twice by the checker's
+/// colour at the same (x, z), once on the shadow ray down and once on the
+/// view ray up: the pixel is the colour squared, pane moved by `translate`
+/// or not.
+pub fn textures_tint_light_through_glass() {
+    let dir = scratch("surfaces-glass");
+    let (w, h, half, s) = (64u32, 50.0, 2.0, 0.37);
+    let (a, b) = ([1.0, 0.5, 0.25], [0.25, 0.5, 1.0]);
+    for shift in [0.0, 0.3] {
+        let script = format!(
+            "{}parallel_light 1 1 1 0 -1 0\n\
+             material 1 1 1 0 1 0 1 0 1; plane 0 1 0 0\n\
+             material 1 1 1 0 0 0 1 1 1; texture checker {} {} {} {} {} {} {s}\n\
+             translate {shift} 0 0; plane 0 1 0 1; render t.ppm",
+            top_view(w, h, half),
+            a[0],
+            a[1],
+            a[2],
+            b[0],
+            b[1],
+            b[2]
+        );
+        let img = render(&dir, &script);
+        let mut worst = 0.0f64;
+        for j in 0..w {
+            for i in 0..w {
+                let (x, z) = under(i, j, w, half);
+                // Keep off the cells' edges (the camera is 50 away).
+                let c = [(x - shift) / s, 1.0 / s, z / s];
+                if c.iter().any(|c| (c - c.round()).abs() < 0.05) {
+                    continue;
+                }
+                let parity = c.iter().map(|c| c.floor() as i64).sum::<i64>().rem_euclid(2);
+                let want = if parity == 0 { a } else { b };
+                let at = ((j * w + i) * 3) as usize;
+                for (got, want) in img.rgb[at..at + 3].iter().zip(want) {
+                    worst = worst.max((*got as f64 / 255.0 - want * want).abs());
+                }
+            }
+        }
+        assert!(worst <= 2.0 / 255.0, "shift {shift}: a pixel is {worst} off");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
