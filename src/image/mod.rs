@@ -257,6 +257,12 @@ pub fn read_rgb8(data: &[u8]) -> Result<Rgb8, String> {
 /// a PNG is decoded from sRGB unless it says it is linear (gAMA 1.0); a
 /// PPM is linear (the pictures this program writes are).
 pub fn read_texture(data: &[u8]) -> Result<(u32, u32, Vec<glam::Vec3>), String> {
+    if data.starts_with(b"PF\n") {
+        return read_pfm(data).ok_or_else(|| "not a readable RGB PFM".into());
+    }
+    if data.starts_with(b"#?") {
+        return read_hdr(data);
+    }
     if data.starts_with(b"P6") {
         let (w, h, rgb) = read_ppm(data).ok_or("not a P6 PPM with maxval 255")?;
         let px =
@@ -352,4 +358,122 @@ mod tests {
         assert_eq!(rgb, vec![255, 128, 0, 0, 0, 255]);
         assert_eq!(to_byte(0.5, Encoding::Srgb), 188);
     }
+}
+
+/// A colour PFM (Portable Float Map: "PF", width and height, a scale whose
+/// sign gives the byte order, rows of RGB floats from the bottom up), as
+/// linear values row by row from the top.
+pub fn read_pfm(data: &[u8]) -> Option<(u32, u32, Vec<glam::Vec3>)> {
+    let mut fields = Vec::new();
+    let mut pos = 0;
+    // Three whitespace-separated header words after "PF", then one byte.
+    while fields.len() < 4 {
+        while data.get(pos)?.is_ascii_whitespace() {
+            pos += 1;
+        }
+        let start = pos;
+        while !data.get(pos)?.is_ascii_whitespace() {
+            pos += 1;
+        }
+        fields.push(std::str::from_utf8(&data[start..pos]).ok()?);
+    }
+    pos += 1;
+    let (w, h): (u32, u32) = (fields[1].parse().ok()?, fields[2].parse().ok()?);
+    let little = fields[3].parse::<f32>().ok()? < 0.0;
+    let n = (w as usize).checked_mul(h as usize)?;
+    let body = data.get(pos..pos.checked_add(n.checked_mul(12)?)?)?;
+    if w == 0 || h == 0 {
+        return None;
+    }
+    let f = |b: &[u8]| {
+        let b = [b[0], b[1], b[2], b[3]];
+        let v = if little { f32::from_le_bytes(b) } else { f32::from_be_bytes(b) };
+        if v.is_finite() { v.max(0.0) } else { 0.0 }
+    };
+    let mut px = Vec::with_capacity(n);
+    for y in (0..h as usize).rev() {
+        let row = &body[y * w as usize * 12..(y + 1) * w as usize * 12];
+        px.extend(
+            row.chunks_exact(12).map(|c| glam::Vec3::new(f(&c[0..4]), f(&c[4..8]), f(&c[8..12]))),
+        );
+    }
+    Some((w, h, px))
+}
+
+/// A Radiance HDR (RGBE) picture, flat or run-length encoded scanlines,
+/// "-Y h +X w" orientation, as linear values row by row from the top.
+pub fn read_hdr(data: &[u8]) -> Result<(u32, u32, Vec<glam::Vec3>), String> {
+    let bad = |why: &str| format!("bad Radiance HDR file: {why}");
+    // The header ends with an empty line; the next line gives the size.
+    let end = data.windows(2).position(|w| w == b"\n\n").ok_or_else(|| bad("no header end"))?;
+    let header = String::from_utf8_lossy(&data[..end]);
+    if header.lines().any(|l| l.starts_with("FORMAT=") && l != "FORMAT=32-bit_rle_rgbe") {
+        return Err(bad("only 32-bit_rle_rgbe is read"));
+    }
+    let rest = &data[end + 2..];
+    let nl = rest.iter().position(|&b| b == b'\n').ok_or_else(|| bad("no size line"))?;
+    let size = String::from_utf8_lossy(&rest[..nl]);
+    let words: Vec<&str> = size.split_whitespace().collect();
+    let (h, w): (u32, u32) = match words[..] {
+        ["-Y", h, "+X", w] => {
+            (h.parse().map_err(|_| bad("size"))?, w.parse().map_err(|_| bad("size"))?)
+        }
+        _ => return Err(bad("only the -Y h +X w orientation is read")),
+    };
+    if w == 0 || h == 0 || (w as u64) * (h as u64) > 1 << 28 {
+        return Err(bad("size"));
+    }
+    let mut src = &rest[nl + 1..];
+    let mut px = Vec::with_capacity(w as usize * h as usize);
+    let mut line = vec![[0u8; 4]; w as usize];
+    for _ in 0..h {
+        let rle = src.len() >= 4
+            && src[0] == 2
+            && src[1] == 2
+            && src[2] & 0x80 == 0
+            && (8..0x8000).contains(&w)
+            && ((src[2] as u32) << 8 | src[3] as u32) == w;
+        if rle {
+            src = &src[4..];
+            for c in 0..4 {
+                let mut x = 0usize;
+                while x < w as usize {
+                    let (&n, tail) = src.split_first().ok_or_else(|| bad("truncated"))?;
+                    if n > 128 {
+                        let run = (n - 128) as usize;
+                        let (&v, tail) = tail.split_first().ok_or_else(|| bad("truncated"))?;
+                        if x + run > w as usize {
+                            return Err(bad("run past the line"));
+                        }
+                        (x..x + run).for_each(|k| line[k][c] = v);
+                        x += run;
+                        src = tail;
+                    } else {
+                        let n = n as usize;
+                        if n == 0 || x + n > w as usize || tail.len() < n {
+                            return Err(bad("bad run"));
+                        }
+                        (0..n).for_each(|k| line[x + k][c] = tail[k]);
+                        x += n;
+                        src = &tail[n..];
+                    }
+                }
+            }
+        } else {
+            for texel in line.iter_mut() {
+                let (c, tail) = src.split_first_chunk::<4>().ok_or_else(|| bad("truncated"))?;
+                *texel = *c;
+                src = tail;
+            }
+        }
+        px.extend(line.iter().map(|&[r, g, b, e]| {
+            if e == 0 {
+                glam::Vec3::ZERO
+            } else {
+                let f = 2f32.powi(e as i32 - 136);
+                glam::Vec3::new(r as f32 + 0.5, g as f32 + 0.5, b as f32 + 0.5) * f
+            }
+        }));
+    }
+    Ok((w, h, px))
 }

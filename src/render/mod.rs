@@ -5,6 +5,7 @@
 //! thread count, tile order or pass order.
 
 mod job;
+mod path;
 pub mod sample;
 mod tracer;
 

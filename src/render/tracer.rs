@@ -27,7 +27,7 @@ use super::job::{Job, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
 use crate::geometry::{Hit, Local, Located, Ray, ShadowHit, Triangle, intersect_brute};
 use crate::image::Image;
-use crate::scene::{Highlight, Material, Scene, texture};
+use crate::scene::{Highlight, Integrator, Material, Scene, texture};
 
 /// Mixed into a batch's key for its pattern of times.
 const TIME: u64 = 0x7469_6d65;
@@ -79,7 +79,7 @@ impl RayStats {
     }
 
     /// Starts a camera ray: its ray budget and its random numbers.
-    fn start(&mut self, key: u64) {
+    pub(super) fn start(&mut self, key: u64) {
         self.primary += 1;
         self.limit = self.total() + MAX_RAYS_PER_PIXEL;
         self.key = key;
@@ -110,13 +110,13 @@ pub fn refract(d: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
 /// A secondary ray starts this fraction of the coordinates' magnitude off
 /// the surface (2⁻¹³, about 10⁻⁴: some 1,000 units in the last place of
 /// single precision, well above the error of a hit point).
-const OFFSET: f32 = 1.0 / 8192.0;
+pub(super) const OFFSET: f32 = 1.0 / 8192.0;
 
 /// How far to move a secondary ray's origin off the surface at `p`, hit by
 /// a ray from `o`. Coordinates are relative to the eye, so this scales
 /// with the scene and does not change when the scene (with its camera)
 /// moves.
-fn offset(p: Vec3, o: Vec3) -> f32 {
+pub(super) fn offset(p: Vec3, o: Vec3) -> f32 {
     (OFFSET * p.abs().max(o.abs()).max_element()).max(f32::MIN_POSITIVE)
 }
 
@@ -180,6 +180,8 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let sampling = &scene.sampling;
     let table = FilterTable::new(sampling.filter);
     let sampled = sampling.samples > 1
+        || sampling.integrator == Integrator::Path
+        || sampling.noise_target.is_some()
         || cam.has_lens()
         || sampling.adaptive.is_some()
         || sampling.has_shutter();
@@ -201,7 +203,7 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
             // The pixel centre, as COS 426 traces it.
             st.start(sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64));
             let ray = cam.ray(x, y).at_time(sampling.shutter[0]);
-            trace(scene, &ray, 0, 1.0, Media::default(), st)
+            camera_ray(scene, &ray, st)
         })?
     };
     // The picture itself, not a copy of it (64 Mpixel are 768 MiB).
@@ -264,14 +266,22 @@ impl Pixel {
                 t0
             };
             let ray = cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv).at_time(time);
-            self.acc.add(trace(scene, &ray, 0, 1.0, Media::default(), st), wx * wy);
+            self.acc.add(camera_ray(scene, &ray, st), wx * wy);
             self.s += 1;
             if self.s == n {
-                let Some((threshold, max)) = sampling.adaptive else {
+                if sampling.adaptive.is_none() && sampling.noise_target.is_none() {
                     return (self.acc.value(), true);
-                };
+                }
+                // Done when the absolute (`adaptive`) or the relative
+                // (`--noise-target`) standard error is low enough.
+                let max =
+                    sampling.adaptive.map_or(crate::scene::Sampling::DEFAULT_ADAPTIVE_MAX, |a| a.1);
+                let se = self.acc.standard_error();
+                let mean = (self.acc.lum / self.acc.count as f64) as f32;
+                let done = sampling.adaptive.is_some_and(|(threshold, _)| se <= threshold)
+                    || sampling.noise_target.is_some_and(|x| se <= x * mean);
                 let n = sampling.samples.max(4);
-                if self.acc.count + n > max || self.acc.standard_error() <= threshold {
+                if self.acc.count + n > max || done {
                     return (self.acc.value(), true);
                 }
                 (self.batch, self.s, self.n) = (self.batch + 1, 0, n);
@@ -435,6 +445,14 @@ pub fn raybench_brute(scene: &Scene, budget: u64) -> (u64, f64) {
     (rays, start.elapsed().as_secs_f64())
 }
 
+/// The colour seen along a camera ray, by the scene's integrator.
+fn camera_ray(scene: &Scene, ray: &Ray, st: &mut RayStats) -> Vec3 {
+    match scene.sampling.integrator {
+        Integrator::Whitted => trace(scene, ray, 0, 1.0, Media::default(), st),
+        Integrator::Path => super::path::radiance(scene, ray, st),
+    }
+}
+
 /// The colour seen along `ray`, `depth` bounces deep, travelling in
 /// `media`.
 pub fn trace(
@@ -467,31 +485,32 @@ pub fn trace(
     }
     match hit {
         Some(h) => shade(scene, ray, &h, depth, weight, media, st),
+        None if scene.has_environment => scene.sky.radiance(ray.dir.normalize()),
         None => scene.background,
     }
 }
 
 /// The local geometry of a hit, every normal turned to the side the ray
 /// came from.
-struct Surface {
+pub(super) struct Surface {
     /// The geometric normal (unit).
-    ng: Vec3,
+    pub(super) ng: Vec3,
     /// The shading normal (unit): interpolated for smooth triangles.
-    ns: Vec3,
+    pub(super) ns: Vec3,
     /// Whether the ray arrives from the outside: the side the shading
     /// normals point to for smooth triangles, the counter-clockwise side
     /// for flat ones, the outside of a sphere.
-    front: bool,
+    pub(super) front: bool,
     /// Where shadow rays start: the hit point, or for smooth triangles the
     /// point Hanika's method lifts it to.
-    shadow_from: Vec3,
+    pub(super) shadow_from: Vec3,
 }
 
 /// The surface at `p` (reached along `d`), from where `locate` found it:
 /// worked out in the primitive's own coordinates, then turned to the
 /// world's (normals by the inverse transpose; the side a ray arrives from
 /// is the same in both).
-fn surface(scene: &Scene, at: &Located, p: Vec3, d: Vec3) -> Surface {
+pub(super) fn surface(scene: &Scene, at: &Located, p: Vec3, d: Vec3) -> Surface {
     let (p_l, d_l) = match at.to_local {
         None => (p, d),
         Some(m) => (m.transform_point3(p), m.transform_vector3(d)),
@@ -573,6 +592,9 @@ fn shade(
     let colour = look.colour;
 
     let mut color = m.ka * scene.ambient * colour;
+    if front {
+        color += m.emission;
+    }
     let lifted = shadow_from != p;
     let shadow_origin =
         if lifted { shadow_from + ng * offset(shadow_from, ray.origin) } else { above };
@@ -660,16 +682,16 @@ fn shade(
 /// What the material looks like at a shading point: its colour (the
 /// texture's, in the coordinates the object was written in), its shading
 /// normal (bumped), and the tangent of anisotropic highlights.
-struct Look {
-    colour: Vec3,
-    normal: Vec3,
+pub(super) struct Look {
+    pub(super) colour: Vec3,
+    pub(super) normal: Vec3,
     /// The surface's u direction: the object's x axis, as written, laid
     /// onto the surface (its z axis where x is normal to it).
-    tangent: Vec3,
+    pub(super) tangent: Vec3,
 }
 
 impl Look {
-    fn at(
+    pub(super) fn at(
         scene: &Scene,
         m: &Material,
         at: &Located,
@@ -821,7 +843,7 @@ fn surface_uv(scene: &Scene, at: &Located) -> Option<SurfaceUv> {
 /// along `view` (unit vectors; `n_dot_l` > 0): Phong's (R·V)^n, Blinn's
 /// (N·H)^n, or Ward's anisotropic lobe π·f·cosθi with
 /// f = 1/(4π·ax·ay·√(cosθi·cosθo))·exp(−((H·u/ax)² + (H·v/ay)²)/(H·N)²).
-fn highlight(m: &Material, look: &Look, l: Vec3, view: Vec3, n_dot_l: f32) -> f32 {
+pub(super) fn highlight(m: &Material, look: &Look, l: Vec3, view: Vec3, n_dot_l: f32) -> f32 {
     let n = look.normal;
     match m.highlight {
         Highlight::Phong => {

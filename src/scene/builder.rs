@@ -114,6 +114,8 @@ pub struct Look {
     pub texture: Option<Texture>,
     pub highlight: Highlight,
     pub bump: Option<Bump>,
+    /// `emission`: the radiance the objects that follow emit.
+    pub emission: Vec3,
 }
 
 /// Where the camera looks: at a point, or along a direction.
@@ -171,6 +173,9 @@ pub struct Builder {
     pub images: Vec<std::sync::Arc<super::texture::Image>>,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
+    /// `environment`: the light from every direction nothing blocks
+    /// (`None`: the background colour's).
+    pub environment: Option<std::sync::Arc<super::emitters::Sky>>,
     pub ambient: Vec3,
     pub background: Vec3,
     pub trace_depth: u32,
@@ -202,6 +207,7 @@ impl Default for Builder {
             mesh_vertices: Vec::new(),
             normals: Vec::new(),
             uvs: Vec::new(),
+            environment: None,
             prims: Vec::new(),
             motion: Vec::new(),
             objects: Vec::new(),
@@ -300,6 +306,7 @@ impl Builder {
             to_texture,
             highlight: look.highlight,
             bump: look.bump,
+            emission: look.emission,
             ..base
         };
         if self.materials[last] == want {
@@ -807,9 +814,10 @@ impl Builder {
     /// frame and `--seed` (the run's, not the script's).
     pub fn clear(&mut self) {
         let (max_pixels, generation) = (self.max_pixels, self.generation + 1);
-        let (frame, base_seed) = (self.sampling.frame, self.sampling.base_seed);
+        let s = self.sampling;
         *self = Builder { max_pixels, generation, ..Builder::default() };
-        self.sampling.frame = frame;
-        self.sampling.base_seed = base_seed;
+        self.sampling.frame = s.frame;
+        self.sampling.base_seed = s.base_seed;
+        self.sampling.noise_target = s.noise_target;
     }
 }

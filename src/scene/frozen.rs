@@ -9,6 +9,7 @@ use glam::{Affine3A, DAffine3, DVec3, Vec3};
 
 use super::builder::{Builder, Prim, SceneError};
 use super::camera::Camera;
+use super::emitters::{LightSet, Sky};
 use super::light::Light;
 use super::material::Material;
 use super::objects::{CsgTree, LeafDef, ObjDef, ObjKind};
@@ -42,6 +43,12 @@ pub struct Scene {
     pub images: Vec<Arc<Image>>,
     /// Triangles skipped because they have no area.
     pub degenerate: usize,
+    /// The light from where nothing is hit: the environment, or the
+    /// background as a constant one; whether an environment was given.
+    pub sky: Arc<Sky>,
+    pub has_environment: bool,
+    /// What the path tracer samples light from (empty for Whitted).
+    pub emitters_set: LightSet,
 }
 
 impl Scene {
@@ -53,6 +60,22 @@ impl Scene {
         let mut groups = vec![None; b.groups.len()];
         let bvh = freeze_level(b, &b.prims, &b.motion, &b.objects, b.from, &mut groups);
         let degenerate = bvh.degenerate;
+        let sky = match &b.environment {
+            Some(s) => s.clone(),
+            None => Arc::new(Sky::constant(b.background)),
+        };
+        let emitters_set = if b.sampling.integrator == super::Integrator::Path {
+            let bounds = bvh.bounds();
+            let radius = if bounds.min.x <= bounds.max.x {
+                let d: Vec3 = (Vec3::from(bounds.max) - Vec3::from(bounds.min)) * 0.5;
+                d.length().min(1e18)
+            } else {
+                1.0
+            };
+            LightSet::build(b, &sky, radius)
+        } else {
+            LightSet::default()
+        };
         let build_seconds = start.elapsed().as_secs_f64();
         Ok(Scene {
             camera,
@@ -75,6 +98,9 @@ impl Scene {
             degenerate,
             origin: b.from.as_vec3(),
             images: b.images.clone(),
+            sky,
+            has_environment: b.environment.is_some(),
+            emitters_set,
         })
     }
 
@@ -106,7 +132,12 @@ impl Scene {
     /// Warnings worth printing before a render.
     pub fn warnings(&self) -> Vec<String> {
         let mut w = Vec::new();
-        if self.lights.is_empty() && self.ambient == Vec3::ZERO {
+        let emits = self.materials.iter().any(|m| m.emission != Vec3::ZERO);
+        if self.sampling.integrator == super::Integrator::Path {
+            if self.lights.is_empty() && !emits && self.sky.mean == Vec3::ZERO {
+                w.push("the scene has no lights, nothing emits and the environment is black: the picture will be black".into());
+            }
+        } else if self.lights.is_empty() && self.ambient == Vec3::ZERO && !emits {
             w.push("the scene has no lights and no ambient light: the picture will show only the background".into());
         } else if self.lights.is_empty() {
             w.push("the scene has no lights: only ambient light will show".into());

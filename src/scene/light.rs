@@ -299,7 +299,7 @@ fn robust_length(v: Vec3) -> f32 {
 }
 
 /// Two unit vectors that make an orthonormal basis with `w` (Duff et al.).
-fn orthonormal(w: Vec3) -> (Vec3, Vec3) {
+pub fn orthonormal(w: Vec3) -> (Vec3, Vec3) {
     let sign = 1.0f32.copysign(w.z);
     let a = -1.0 / (sign + w.z);
     let b = w.x * w.y * a;

@@ -49,6 +49,8 @@ pub struct Material {
     pub to_texture: Option<Affine3A>,
     pub highlight: Highlight,
     pub bump: Option<Bump>,
+    /// Radiance emitted from the front side (`emission`).
+    pub emission: Vec3,
 }
 
 impl Default for Material {
@@ -66,6 +68,7 @@ impl Default for Material {
             to_texture: None,
             highlight: Highlight::Phong,
             bump: None,
+            emission: Vec3::ZERO,
         }
     }
 }

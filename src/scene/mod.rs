@@ -5,6 +5,7 @@
 mod builder;
 mod camera;
 mod displace;
+pub mod emitters;
 mod frozen;
 mod light;
 mod material;
@@ -18,5 +19,5 @@ pub use displace::{Displace, MAX_SUBDIVIDE, luminance, subdivide};
 pub use frozen::Scene;
 pub use light::{Light, spot_factor};
 pub use material::{Bump, Highlight, Material};
-pub use sampling::{Filter, FilterKind, Sampling, Tonemap};
+pub use sampling::{Filter, FilterKind, Integrator, Sampling, Tonemap};
 pub use texture::{Image, Mapping, Pattern, Texture, noise, noise_gradient, pattern, turbulence};

@@ -126,6 +126,28 @@ impl Tonemap {
     }
 }
 
+/// The light transport `render` computes (`integrator`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Integrator {
+    /// COS 426's recursive ray tracer: direct light, mirror and glass.
+    #[default]
+    Whitted,
+    /// Monte Carlo path tracing: all the light, diffuse bounces too.
+    Path,
+}
+
+impl Integrator {
+    pub const NAMES: &'static str = "whitted or path";
+
+    pub fn parse(s: &str) -> Option<Integrator> {
+        Some(match s {
+            "whitted" => Integrator::Whitted,
+            "path" => Integrator::Path,
+            _ => return None,
+        })
+    }
+}
+
 /// The sampling state of a scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sampling {
@@ -147,6 +169,10 @@ pub struct Sampling {
     /// The shutter interval (`shutter t0 t1`): camera rays sample times in
     /// it, where moving objects are seen.
     pub shutter: [f32; 2],
+    pub integrator: Integrator,
+    /// `--noise-target`: a pixel stops once its relative standard error
+    /// is below this (from the command line; `clear_scene` keeps it).
+    pub noise_target: Option<f32>,
 }
 
 impl Default for Sampling {
@@ -161,6 +187,8 @@ impl Default for Sampling {
             tonemap: Tonemap::Clamp,
             adaptive: None,
             shutter: [0.0, 0.0],
+            integrator: Integrator::Whitted,
+            noise_target: None,
         }
     }
 }

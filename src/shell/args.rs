@@ -77,6 +77,10 @@ pub struct Cli {
     /// script's `seed` command changes it too, independently.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub seed: u64,
+    /// Sampled renders: keep adding samples to a pixel until its relative
+    /// standard error is below X (up to `adaptive`'s maximum, else 1024).
+    #[arg(long, value_name = "X", value_parser = parse_noise_target)]
+    pub noise_target: Option<f32>,
     /// Memory the run may use: 512M, 2G, 50% (of physical memory). Growth
     /// past it is a script error, never a crash [default: 75% of physical
     /// memory, and at most half of what `ulimit -v` leaves].
@@ -178,4 +182,11 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
         return Err(bad());
     }
     Ok((i, n))
+}
+
+fn parse_noise_target(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x > 0.0 && x.is_finite() => Ok(x),
+        _ => Err(format!("expected a number above 0, got \"{s}\"")),
+    }
 }

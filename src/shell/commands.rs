@@ -13,7 +13,9 @@ use glam::{DVec3, Vec3};
 use crate::image::{Encoding, Format};
 use crate::interp::{Exception, Interp, Num, Value, check_args, format_double};
 use crate::render;
-use crate::scene::{Builder, Filter, FilterKind, Light, Material, Scene, SceneError, Tonemap};
+use crate::scene::{
+    Builder, Filter, FilterKind, Integrator, Light, Material, Scene, SceneError, Tonemap,
+};
 
 use super::stats::{Picture, RenderReport, ShellState};
 
@@ -471,6 +473,18 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
             let t = choice(&argv[1], "tone map", Tonemap::parse, Tonemap::NAMES)?;
             let mut b = edit(&s);
             b.sampling.tonemap = t;
+            Ok(Value::empty())
+        },
+    );
+    let s = scene.clone();
+    interp.register_host(
+        "integrator",
+        "whitted|path",
+        "the light transport of the next renders",
+        move |_, argv| {
+            check_args(argv, 2, 2, "whitted|path")?;
+            let i = choice(&argv[1], "integrator", Integrator::parse, Integrator::NAMES)?;
+            edit(&s).sampling.integrator = i;
             Ok(Value::empty())
         },
     );

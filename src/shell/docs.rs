@@ -251,6 +251,12 @@ pub const SCENE: &[Doc] = &[
         example: "displace noise 0.1 0.2; mesh ball.obj -subdivide 3",
     },
     Doc {
+        name: "emission",
+        meaning: "the radiance the objects made after it emit from their front side (the side flat triangles wind counter-clockwise to, vertex normals point to, the outside of solids): any shape, mesh triangles too. The path tracer lights the scene with it (light sampling finds the top level's still triangles and spheres; emitters in instances, CSG or moving are found by paths); the Whitted tracer shows it as a glow that lights nothing. `emission 0 0 0` stops",
+        default: "0 0 0",
+        example: "emission 12 12 12",
+    },
+    Doc {
         name: "max_vertices",
         meaning: "a capacity hint for the vertex pool; using more is still correct",
         default: "",
@@ -267,6 +273,12 @@ pub const SCENE: &[Doc] = &[
         meaning: "colour of rays that hit nothing (colours are 0..1 floats, not negative)",
         default: "0 0 0",
         example: "background 0.2 0.3 0.5",
+    },
+    Doc {
+        name: "environment",
+        meaning: "the light arriving from every direction nothing blocks: a constant radiance `r g b`, or an equirectangular picture (PNG, PPM, PFM or Radiance HDR; u = atan2(−z, x)/2π around the y axis, v the latitude up), times `scale`; the path tracer samples it by its luminance. Whitted rays that escape see it too. `none` goes back to the background colour",
+        default: "the background colour",
+        example: "environment sky.hdr 1.5",
     },
     Doc {
         name: "ambient_light",
@@ -315,6 +327,12 @@ pub const SCENE: &[Doc] = &[
         meaning: "the most bounces a ray makes, 0..64",
         default: "5",
         example: "trace_depth 8",
+    },
+    Doc {
+        name: "integrator",
+        meaning: "the light transport: `whitted` (COS 426's recursive tracer) or `path` (Monte Carlo path tracing: diffuse bounces, colour bleeding, caustics; next-event estimation with multiple importance sampling; Russian roulette after 3 bounces; `trace_depth` bounces at most, `samples` paths per pixel). Ambient light is not used by `path`",
+        default: "whitted",
+        example: "integrator path",
     },
     Doc {
         name: "samples",

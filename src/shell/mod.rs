@@ -445,6 +445,7 @@ fn new_session(cli: &Cli) -> Result<Session, String> {
     let mut session = Session::new(Box::new(StdHost::new()));
     session.interp.interrupt = Some(&feedback::INTERRUPTED);
     session.scene.borrow_mut().sampling.base_seed = cli.seed;
+    session.scene.borrow_mut().sampling.noise_target = cli.noise_target;
     let mut st = session.state.borrow_mut();
     st.print_stats = cli.stats;
     st.feedback =

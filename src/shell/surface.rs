@@ -6,6 +6,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use crate::interp::{Exception, Interp, Value, check_args};
+use crate::scene::emitters::Sky;
 use crate::scene::{Bump, Displace, Highlight, Image, Mapping, Pattern, Texture};
 
 use super::commands::{Shared, edit, finite_arg, scene_err};
@@ -140,6 +141,77 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
             };
             let mut b = edit(&s);
             b.set_texture(t).map_err(scene_err)?;
+            Ok(Value::empty())
+        },
+    );
+    let s = scene.clone();
+    interp.register_host(
+        "emission",
+        "r g b",
+        "the radiance the objects that follow emit (from their front side)",
+        move |_, argv| {
+            check_args(argv, 4, 4, "r g b")?;
+            let n = numbers(argv, 1, "emission")?;
+            let c = Vec3::new(n[0], n[1], n[2]);
+            if c.min_element() < 0.0 {
+                return Err(Exception::error(format!(
+                    "emission must not be negative, got {} {} {}",
+                    n[0], n[1], n[2]
+                )));
+            }
+            edit(&s).look.emission = c;
+            Ok(Value::empty())
+        },
+    );
+    let s = scene.clone();
+    let usage = "r g b | fileName ?scale? | none";
+    interp.register_host(
+        "environment",
+        usage,
+        "the light from every direction nothing blocks: a constant radiance or an equirectangular image",
+        move |_, argv| {
+            check_args(argv, 2, 4, usage)?;
+            let sky = match argv.len() {
+                4 => {
+                    let n = numbers(argv, 1, "environment")?;
+                    let c = Vec3::new(n[0], n[1], n[2]);
+                    if c.min_element() < 0.0 {
+                        return Err(Exception::error(format!(
+                            "environment radiance must not be negative, got {} {} {}",
+                            n[0], n[1], n[2]
+                        )));
+                    }
+                    Some(Sky::constant(c))
+                }
+                _ if argv[1].as_str() == "none" && argv.len() == 2 => None,
+                _ => {
+                    let scale = match argv.get(2) {
+                        Some(v) => finite_arg(v, "environment: scale")? as f32,
+                        None => 1.0,
+                    };
+                    if scale < 0.0 {
+                        return Err(Exception::error(format!(
+                            "environment scale must not be negative, got {scale}"
+                        )));
+                    }
+                    let path = argv[1].as_str();
+                    let data = std::fs::read(path).map_err(|e| {
+                        Exception::error(format!(
+                            "couldn't read \"{path}\": {}",
+                            super::io_reason(&e)
+                        ))
+                    })?;
+                    let (w, h, px) = crate::image::read_texture(&data)
+                        .map_err(|e| Exception::error(format!("{path}: {e}")))?;
+                    if w == 0 || h == 0 {
+                        return Err(Exception::error(format!("{path}: an empty image")));
+                    }
+                    // The map and its sampling tables.
+                    crate::mem::reserve_n(w as usize * h as usize, 24)?;
+                    Some(Sky::map(w, h, px.into_iter().map(|c| c * scale).collect()))
+                }
+            };
+            edit(&s).environment = sky.map(Arc::new);
             Ok(Value::empty())
         },
     );

@@ -11,6 +11,7 @@ mod farm;
 mod interrupt;
 mod lang;
 mod mesh;
+mod path;
 mod pov;
 mod readme;
 mod render;
@@ -60,6 +61,12 @@ fn main() {
     }));
     let args = Arguments::from_args();
     let trials = tests![
+        path::a_diffuse_ball_in_a_white_furnace_shows_its_albedo,
+        path::a_glowing_closed_box_sums_its_bounces,
+        path::agrees_with_mitsuba_on_the_cornell_box,
+        path::path_traced_pictures_do_not_depend_on_threads_passes_or_crops,
+        path::noise_targets_trade_rays_for_error,
+        path::bad_path_commands_are_located_errors,
         sampling::edges_converge_to_their_covered_fractions,
         sampling::sampled_pictures_do_not_depend_on_threads_passes_or_crops,
         sampling::seeds_change_the_noise_only,
