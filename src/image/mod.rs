@@ -26,6 +26,9 @@ pub enum Encoding {
 pub enum Format {
     Ppm,
     Png,
+    /// Portable Float Map: linear values unclipped (after `exposure` and
+    /// the tone map), for comparing with other renderers and compositing.
+    Pfm,
 }
 
 impl Format {
@@ -36,6 +39,8 @@ impl Format {
             Some(Format::Ppm)
         } else if lower.ends_with(".png") {
             Some(Format::Png)
+        } else if lower.ends_with(".pfm") {
+            Some(Format::Pfm)
         } else {
             None
         }
@@ -95,11 +100,33 @@ impl Image {
         at: Option<Placement>,
         stop: &dyn Fn() -> bool,
     ) -> io::Result<()> {
+        if format == Format::Pfm {
+            return self.write_pfm(w);
+        }
         let rgb = self.to_rgb8(enc);
         match format {
             Format::Ppm => write_ppm_placed(w, self.width, self.height, &rgb, at),
             Format::Png => write_png_placed(w, self.width, self.height, &rgb, enc, at, stop),
+            Format::Pfm => unreachable!("written above"),
         }
+    }
+
+    /// The image as a little-endian colour PFM (rows from the bottom up;
+    /// NaNs written as 0).
+    pub fn write_pfm(&self, mut w: impl Write) -> io::Result<()> {
+        write!(w, "PF\n{} {}\n-1.0\n", self.width, self.height)?;
+        let mut row = Vec::with_capacity(self.width as usize * 12);
+        for y in (0..self.height).rev() {
+            row.clear();
+            for x in 0..self.width {
+                let p = self.get(x, y);
+                for v in [p.x, p.y, p.z] {
+                    row.extend((if v.is_nan() { 0.0 } else { v }).to_le_bytes());
+                }
+            }
+            w.write_all(&row)?;
+        }
+        w.flush()
     }
 }
 
@@ -341,25 +368,6 @@ pub fn read_ppm(data: &[u8]) -> Option<(u32, u32, Vec<u8>)> {
     Some((w, h, body[..n].to_vec()))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ppm_round_trip_and_clamping() {
-        let mut img = Image::new(2, 1);
-        img.pixels[0] = Vec3::new(1.5, 0.5, -1.0);
-        img.pixels[1] = Vec3::new(f32::NAN, 0.0, 1.0);
-        let mut buf = Vec::new();
-        img.write(&mut buf, Format::Ppm, Encoding::Linear).unwrap();
-        assert!(buf.starts_with(b"P6\n2 1\n255\n"));
-        let (w, h, rgb) = read_ppm(&buf).unwrap();
-        assert_eq!((w, h), (2, 1));
-        assert_eq!(rgb, vec![255, 128, 0, 0, 0, 255]);
-        assert_eq!(to_byte(0.5, Encoding::Srgb), 188);
-    }
-}
-
 /// A colour PFM (Portable Float Map: "PF", width and height, a scale whose
 /// sign gives the byte order, rows of RGB floats from the bottom up), as
 /// linear values row by row from the top.
@@ -425,7 +433,9 @@ pub fn read_hdr(data: &[u8]) -> Result<(u32, u32, Vec<glam::Vec3>), String> {
     }
     let mut src = &rest[nl + 1..];
     let mut px = Vec::with_capacity(w as usize * h as usize);
-    let mut line = vec![[0u8; 4]; w as usize];
+    let wu = w as usize;
+    // One scanline as four planes (r, g, b, exponent).
+    let mut planes = vec![0u8; 4 * wu];
     for _ in 0..h {
         let rle = src.len() >= 4
             && src[0] == 2
@@ -435,38 +445,39 @@ pub fn read_hdr(data: &[u8]) -> Result<(u32, u32, Vec<glam::Vec3>), String> {
             && ((src[2] as u32) << 8 | src[3] as u32) == w;
         if rle {
             src = &src[4..];
-            for c in 0..4 {
+            for plane in planes.chunks_exact_mut(wu) {
                 let mut x = 0usize;
-                while x < w as usize {
+                while x < wu {
                     let (&n, tail) = src.split_first().ok_or_else(|| bad("truncated"))?;
                     if n > 128 {
                         let run = (n - 128) as usize;
                         let (&v, tail) = tail.split_first().ok_or_else(|| bad("truncated"))?;
-                        if x + run > w as usize {
+                        if x + run > wu {
                             return Err(bad("run past the line"));
                         }
-                        (x..x + run).for_each(|k| line[k][c] = v);
+                        plane[x..x + run].fill(v);
                         x += run;
                         src = tail;
                     } else {
                         let n = n as usize;
-                        if n == 0 || x + n > w as usize || tail.len() < n {
+                        if n == 0 || x + n > wu || tail.len() < n {
                             return Err(bad("bad run"));
                         }
-                        (0..n).for_each(|k| line[x + k][c] = tail[k]);
+                        plane[x..x + n].copy_from_slice(&tail[..n]);
                         x += n;
                         src = &tail[n..];
                     }
                 }
             }
         } else {
-            for texel in line.iter_mut() {
-                let (c, tail) = src.split_first_chunk::<4>().ok_or_else(|| bad("truncated"))?;
-                *texel = *c;
-                src = tail;
+            let flat = src.get(..4 * wu).ok_or_else(|| bad("truncated"))?;
+            for (x, t) in flat.chunks_exact(4).enumerate() {
+                (0..4).for_each(|c| planes[c * wu + x] = t[c]);
             }
+            src = &src[4 * wu..];
         }
-        px.extend(line.iter().map(|&[r, g, b, e]| {
+        px.extend((0..wu).map(|x| {
+            let [r, g, b, e] = [0, 1, 2, 3].map(|c| planes[c * wu + x]);
             if e == 0 {
                 glam::Vec3::ZERO
             } else {
@@ -476,4 +487,54 @@ pub fn read_hdr(data: &[u8]) -> Result<(u32, u32, Vec<glam::Vec3>), String> {
         }));
     }
     Ok((w, h, px))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A PFM written is read back to the bit, rows in order; a Radiance
+    /// HDR decodes flat and run-length scanlines alike.
+    #[test]
+    fn float_pictures_round_trip() {
+        let mut img = Image::new(3, 2);
+        img.pixels =
+            (0..6).map(|k| Vec3::new(k as f32 * 1.5, 100.0 / (k + 1) as f32, 0.25)).collect();
+        let mut buf = Vec::new();
+        img.write(&mut buf, Format::Pfm, Encoding::Linear).unwrap();
+        let (w, h, px) = read_texture(&buf).unwrap();
+        assert_eq!((w, h), (3, 2));
+        assert_eq!(px, img.pixels);
+        // 8 texels: (m + 0.5)·2^(e − 136) with m = 128, e = 129: 1.00390625.
+        let head = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n".to_vec();
+        let mut flat = head.clone();
+        let mut rle = head;
+        for _ in 0..2 {
+            flat.extend([128, 128, 128, 129].repeat(8));
+            rle.extend([2, 2, 0, 8]);
+            for v in [128, 128, 128, 129] {
+                rle.extend([128 + 8, v]);
+            }
+        }
+        for data in [flat, rle] {
+            let (w, h, px) = read_texture(&data).unwrap();
+            assert_eq!((w, h, px.len()), (8, 2, 16));
+            assert!(px.iter().all(|p| *p == Vec3::splat(128.5 / 128.0)), "{:?}", px[0]);
+        }
+        assert!(read_texture(b"#?RADIANCE\n\n-Y 2 +X 8\n\x02\x02").is_err());
+    }
+
+    #[test]
+    fn ppm_round_trip_and_clamping() {
+        let mut img = Image::new(2, 1);
+        img.pixels[0] = Vec3::new(1.5, 0.5, -1.0);
+        img.pixels[1] = Vec3::new(f32::NAN, 0.0, 1.0);
+        let mut buf = Vec::new();
+        img.write(&mut buf, Format::Ppm, Encoding::Linear).unwrap();
+        assert!(buf.starts_with(b"P6\n2 1\n255\n"));
+        let (w, h, rgb) = read_ppm(&buf).unwrap();
+        assert_eq!((w, h), (2, 1));
+        assert_eq!(rgb, vec![255, 128, 0, 0, 0, 255]);
+        assert_eq!(to_byte(0.5, Encoding::Srgb), 188);
+    }
 }

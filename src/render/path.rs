@@ -226,7 +226,7 @@ pub fn radiance(scene: &Scene, camera_ray: &Ray, st: &mut RayStats) -> Vec3 {
         }
         if depth + 1 >= ROULETTE_AFTER {
             let q = beta.max_element().min(0.95);
-            if !(u_rr < q) {
+            if u_rr >= q {
                 break;
             }
             beta /= q;

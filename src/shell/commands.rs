@@ -702,7 +702,7 @@ fn render_command(
     let path = argv[argv.len() - 1].as_str();
     let format = Format::from_path(path).ok_or_else(|| {
         Exception::error(format!(
-            "unknown image format for \"{path}\": the name must end in .ppm or .png"
+            "unknown image format for \"{path}\": the name must end in .ppm, .png or .pfm"
         ))
     })?;
     let write_err = |err: std::io::Error| {

@@ -148,7 +148,7 @@ pub fn run_batch(cli: &Cli) -> i32 {
 pub fn merge(out: &Path, parts: &[PathBuf]) -> Result<(), (i32, String)> {
     let fail = |msg: String| (EXIT_SCRIPT, msg);
     let out_name = out.to_string_lossy().into_owned();
-    let format = Format::from_path(&out_name).ok_or_else(|| {
+    let format = Format::from_path(&out_name).filter(|f| *f != Format::Pfm).ok_or_else(|| {
         fail(format!("unknown image format for \"{out_name}\": the name must end in .ppm or .png"))
     })?;
     let mut full: Option<(u32, u32, Vec<u8>, Vec<bool>)> = None;
@@ -207,7 +207,8 @@ pub fn merge(out: &Path, parts: &[PathBuf]) -> Result<(), (i32, String)> {
     };
     let mut file = super::AtomicFile::create(&out_name).map_err(io)?;
     match format {
-        Format::Ppm => crate::image::write_ppm(file.writer(), w, h, &rgb),
+        // (A .pfm name is refused above: parts are 8-bit.)
+        Format::Ppm | Format::Pfm => crate::image::write_ppm(file.writer(), w, h, &rgb),
         Format::Png => crate::image::write_png(
             file.writer(),
             w,

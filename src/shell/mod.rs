@@ -592,7 +592,7 @@ fn check_output(path: &std::path::Path) -> Result<(), String> {
     let name = path.to_string_lossy();
     if crate::image::Format::from_path(&name).is_none() {
         return Err(format!(
-            "unknown image format for \"{name}\": the name must end in .ppm or .png"
+            "unknown image format for \"{name}\": the name must end in .ppm, .png or .pfm"
         ));
     }
     let dir = match path.parent() {

@@ -321,7 +321,7 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         "render unknown format",
         "render x.jpg",
         1,
-        "unknown image format for \"x.jpg\": the name must end in .ppm or .png",
+        "unknown image format for \"x.jpg\": the name must end in .ppm, .png or .pfm",
     ),
     (
         "render missing dir",

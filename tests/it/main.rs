@@ -62,6 +62,7 @@ fn main() {
     let args = Arguments::from_args();
     let trials = tests![
         path::a_diffuse_ball_in_a_white_furnace_shows_its_albedo,
+        path::a_diffuse_ball_under_half_a_sky_shows_its_tilt,
         path::a_glowing_closed_box_sums_its_bounces,
         path::agrees_with_mitsuba_on_the_cornell_box,
         path::path_traced_pictures_do_not_depend_on_threads_passes_or_crops,

