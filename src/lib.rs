@@ -18,13 +18,16 @@
 //!   (`fractal`), and trees of their own (instances, moving primitives).
 //! - `scene`: `Builder` (mutable, checked, double precision; its transform
 //!   stack, CSG, blobs and groups in `objects`), textures and our Perlin
-//!   noise (`texture`), displacement (`displace`), `Scene`
+//!   noise (`texture`), displacement (`displace`), what the path tracer
+//!   samples light from (`emitters`: lights, emitting surfaces, the sky
+//!   map, chosen by power), `Scene`
 //!   (frozen, single precision relative to the eye: one BVH over the still
 //!   primitives and one per velocity of moving ones, walked by rays moved
 //!   back to time 0), camera, lights, materials, sampling settings.
 //! - `render`: the Whitted tracer (`tracer`: samples per pixel, shading,
-//!   lights with a size, the media a ray is in, ray offsets), parallel over
-//!   tiles; `sample`: hashed random numbers, stratified points (CMJ) and
+//!   lights with a size, the media a ray is in, ray offsets) and the path
+//!   tracer (`path`: next-event estimation with MIS, Russian roulette),
+//!   parallel over tiles; `sample`: hashed random numbers, stratified points (CMJ) and
 //!   filter importance sampling; `job` says which pixels (crops), in what
 //!   order (progressive passes), and carries progress and cancellation.
 //! - `image`: the linear f32 image, PPM and PNG writers and readers (with a

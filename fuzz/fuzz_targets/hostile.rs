@@ -11,7 +11,7 @@ use std::time::Duration;
 use libfuzzer_sys::fuzz_target;
 use rayshell::shell::{CaptureHost, INTERRUPTED, Session};
 
-const PRELUDES: [&str; 12] = [
+const PRELUDES: [&str; 14] = [
     "",
     // Ks + T > 1 at depth 64 through glass: the ray tree doubles per bounce.
     "trace_depth 64; material 1 1 1 0 0 0.5 1 1 1.5\n\
@@ -47,6 +47,16 @@ const PRELUDES: [&str; 12] = [
     "group a { sphere 0 0 0 1; disk 0 0 0 0 1 0 2 1 }\n\
      for {set i 0} {$i < 31} {incr i} { group a [list transform {rotate 10 20 30; instance a}] }\n\
      motion 0 1 0; shutter 0 1e9; instance a",
+    // Path tracing at the extremes: glowing and gaining surfaces (Ks + T
+    // above 1), emitters too small and too bright, a tiny sky map.
+    "integrator path; trace_depth 64; samples 4; environment 1e30 0 1e-30\n\
+     material 1 1 1 0 1 1 1 1 1.5; emission 1e30 1e30 1e30; sphere 0 0 -4 1\n\
+     emission 1 1 1; tri [vertex 0 0 -3] [vertex 1e-30 0 -3] [vertex 0 1e-30 -3]\n\
+     motion 0 1 0; shutter 0 1; sphere 0 0 -6 1e-20; emission 0 0 0\n\
+     group g { emission 2 2 2; box -1 -1 -1 1 1 1 }; instance g",
+    "integrator path; area_light 5 5 5 -1 3 -1 2 0 0 0 0 2 8; sphere_light 1 1 1 0 0 -4 2 3\n\
+     spot_light 1 1 1 0 5 0 0 -1 0 10 20; parallel_light 1 1 1 0 -1 0\n\
+     highlight ward 0.01 1; material 1 1 1 0 0.5 0.5 1e4 0 1; plane 0 1 0 -1; sphere 0 0 -4 1",
 ];
 
 fuzz_target!(|data: &[u8]| {

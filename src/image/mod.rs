@@ -431,6 +431,9 @@ pub fn read_hdr(data: &[u8]) -> Result<(u32, u32, Vec<glam::Vec3>), String> {
     if w == 0 || h == 0 || (w as u64) * (h as u64) > 1 << 28 {
         return Err(bad("size"));
     }
+    // The picture, before its scanlines are read (they may be runs).
+    crate::mem::reserve_n(w as usize * h as usize, size_of::<glam::Vec3>())
+        .map_err(|e| e.to_string())?;
     let mut src = &rest[nl + 1..];
     let mut px = Vec::with_capacity(w as usize * h as usize);
     let wu = w as usize;

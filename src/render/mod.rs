@@ -1,4 +1,5 @@
-//! Rendering: a recursive (Whitted) ray tracer over a frozen `Scene`, run
+//! Rendering: a recursive (Whitted) ray tracer, or a path tracer
+//! (`integrator path`), over a frozen `Scene`, run
 //! in parallel over tiles with rayon (`job`: crops, progressive passes,
 //! progress and cancellation). Random numbers are hashes of (seed, frame,
 //! pixel, sample, dimension) (`sample`), so the picture is the same for any

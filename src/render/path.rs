@@ -150,7 +150,10 @@ pub fn radiance(scene: &Scene, camera_ray: &Ray, st: &mut RayStats) -> Vec3 {
             let item = &set.items[i];
             if let Some(ls) = emitters::sample(item, &scene.sky, p, prob, u_light) {
                 let cos = ns.dot(ls.dir);
-                if cos > 0.0 && ls.dir.dot(ng) > 0.0 {
+                // Without a diffuse lobe only the highlight of a point,
+                // spot or parallel light is left to gather.
+                let useful = m.kd > 0.0 || ls.pdf == 0.0;
+                if useful && cos > 0.0 && ls.dir.dot(ng) > 0.0 {
                     let origin = if shadow_from != p {
                         shadow_from + ng * offset(shadow_from, ray.origin)
                     } else {
