@@ -99,6 +99,8 @@ pub struct Proc {
     pub(crate) variadic: bool,
     pub(crate) body: Value,
     pub(crate) arg_spec: Value,
+    /// For `apply`: the lambda term (named in usage and traces).
+    pub(crate) lambda: Option<Value>,
 }
 
 /// What the interpreter needs from the outside world.
@@ -154,6 +156,9 @@ pub struct Interp {
     rand_seed: i64,
     pub(crate) script_file: Option<Rc<str>>,
     help: BTreeMap<String, (String, String)>,
+    pub(crate) packages: super::builtins::Packages,
+    /// What `info nameofexecutable` says (the host sets it).
+    pub executable: String,
 }
 
 fn truncate_cmd(text: &str) -> String {
@@ -200,9 +205,12 @@ impl Interp {
             rand_seed: 0,
             script_file: None,
             help: BTreeMap::new(),
+            packages: Default::default(),
+            executable: String::new(),
         };
         interp.seed_rand(0);
         super::builtins::register_all(&mut interp);
+        interp.set_tcl_globals();
         interp
     }
 
@@ -374,6 +382,11 @@ impl Interp {
         self.eval(&Value::from(src))
     }
 
+    /// Evaluates `src` in the global frame (as `uplevel #0`).
+    pub fn eval_global(&mut self, src: &str) -> TclResult {
+        self.in_frame(0, |i| i.eval_str(src))
+    }
+
     pub(crate) fn eval_script(&mut self, s: &Script) -> TclResult {
         let mut result = Value::empty();
         for cmd in &s.cmds {
@@ -414,6 +427,29 @@ impl Interp {
             return Ok(Value::empty());
         }
         self.invoke(&argv)
+    }
+
+    /// `subst`: the parts' values joined; a `break` in a command ends the
+    /// result there, a `continue` substitutes nothing, and `return` (or
+    /// any other code) substitutes its value.
+    pub(crate) fn subst(&mut self, parts: &[Part]) -> TclResult {
+        let mut out = String::new();
+        for p in parts {
+            match p {
+                Part::Lit(s) => out.push_str(s),
+                Part::Var(name) => out.push_str(self.get_var_name(name)?.as_str()),
+                Part::Cmd(s) => match self.eval_nested(s) {
+                    Ok(v) => out.push_str(v.as_str()),
+                    Err(e) => match e.code {
+                        Code::Error | Code::Exit(_) => return Err(e),
+                        Code::Break => break,
+                        Code::Continue => {}
+                        Code::Return => out.push_str(e.value.as_str()),
+                    },
+                },
+            }
+        }
+        Ok(Value::from_string(out))
     }
 
     pub(crate) fn eval_word(&mut self, w: &Word) -> TclResult {
@@ -473,7 +509,13 @@ impl Interp {
 
     /// Calls a command with its words already substituted.
     pub fn invoke(&mut self, argv: &[Value]) -> TclResult {
-        let cmd = match self.commands.get(argv[0].as_str()) {
+        let name = argv[0].as_str();
+        // `::name` is the global command `name`.
+        let found = self
+            .commands
+            .get(name)
+            .or_else(|| name.strip_prefix("::").and_then(|n| self.commands.get(n)));
+        let cmd = match found {
             Some(c) => c.clone(),
             None => {
                 return Err(Exception::error(format!(
@@ -504,6 +546,12 @@ impl Interp {
             return after_growth(r);
         }
         r
+    }
+
+    /// Calls a lambda (`apply`): `argv` is the lambda term and the
+    /// arguments.
+    pub(crate) fn call_lambda(&mut self, p: &Proc, argv: &[Value]) -> TclResult {
+        self.call_proc(p, argv)
     }
 
     fn call_proc(&mut self, p: &Proc, argv: &[Value]) -> TclResult {
@@ -541,8 +589,9 @@ impl Interp {
             Err(mut e) => match e.code {
                 Code::Return => finish_return(e),
                 Code::Error => {
+                    let what = if p.lambda.is_some() { "lambda term" } else { "procedure" };
                     e.trace.push_str(&format!(
-                        "\n    (procedure \"{}\" line {})",
+                        "\n    ({what} \"{}\" line {})",
                         truncate_cmd(argv[0].as_str()),
                         e.script_line
                     ));
@@ -853,6 +902,36 @@ impl Interp {
     pub(crate) fn level(&self) -> usize {
         self.frames[self.cur].level
     }
+
+    /// The globals every Tcl 8.6 interpreter has: `tcl_version`,
+    /// `tcl_patchLevel`, `tcl_platform`, `tcl_precision` (0: shortest), and
+    /// an empty `auto_path` and `env` (the host fills them).
+    fn set_tcl_globals(&mut self) {
+        use super::builtins::{TCL_PATCHLEVEL, TCL_VERSION};
+        let set = |i: &mut Interp, name: &str, v: &str| {
+            let _ = i.set_var(name, Value::from(v));
+        };
+        set(self, "tcl_version", TCL_VERSION);
+        set(self, "tcl_patchLevel", TCL_PATCHLEVEL);
+        let byte_order = if cfg!(target_endian = "little") { "littleEndian" } else { "bigEndian" };
+        let pointer = std::mem::size_of::<usize>().to_string();
+        for (k, v) in [
+            ("byteOrder", byte_order),
+            ("engine", "Tcl"),
+            ("machine", std::env::consts::ARCH),
+            ("os", if cfg!(target_os = "linux") { "Linux" } else { std::env::consts::OS }),
+            ("osVersion", ""),
+            ("pathSeparator", if cfg!(windows) { ";" } else { ":" }),
+            ("platform", if cfg!(windows) { "windows" } else { "unix" }),
+            ("pointerSize", &pointer),
+            ("threaded", "1"),
+            ("user", ""),
+            ("wordSize", &pointer),
+        ] {
+            set(self, &format!("tcl_platform({k})"), v);
+        }
+        set(self, "auto_path", "");
+    }
 }
 
 fn call_numeric(
@@ -979,7 +1058,8 @@ pub(crate) fn add_trace(
 }
 
 fn proc_usage(p: &Proc, name: &Value) -> Exception {
-    let mut usage = name.as_str().to_string();
+    let mut usage =
+        if p.lambda.is_some() { "apply lambdaExpr".to_string() } else { name.as_str().to_string() };
     for (i, (param, default)) in p.params.iter().enumerate() {
         if p.variadic && i == p.params.len() - 1 {
             usage.push_str(" ?arg ...?");

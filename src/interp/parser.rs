@@ -392,6 +392,36 @@ impl Parser {
     }
 
     /// An `expr` operand that starts with `$`, `[`, `"` or `{`.
+    /// The whole source as `subst` reads it: text with the substitutions
+    /// asked for (backslashes, `[commands]`, `$variables`) and the others
+    /// left as written.
+    pub(crate) fn subst_parts(
+        &mut self,
+        backslashes: bool,
+        commands: bool,
+        variables: bool,
+    ) -> Result<Vec<Part>, ParseError> {
+        let mut parts = Parts::default();
+        while self.pos < self.src.len() {
+            let c = self.src.as_bytes()[self.pos];
+            let literal = match c {
+                b'\\' => !backslashes,
+                b'[' => !commands,
+                b'$' => !variables,
+                _ => false,
+            };
+            if literal {
+                parts.lit.push(c as char);
+                self.pos += 1;
+            } else {
+                // `"` is no delimiter here: it only ends a run of text.
+                self.part(&mut parts, false, 0, b'"')?;
+            }
+        }
+        parts.flush();
+        Ok(parts.parts)
+    }
+
     pub(crate) fn expr_word(&mut self) -> Result<Word, ParseError> {
         match self.src.as_bytes()[self.pos] {
             b'$' => match self.var(false, 0)? {

@@ -206,7 +206,35 @@ pub fn new_interp(host: Box<dyn Host>) -> Interp {
     Session::new(host).interp
 }
 
+/// What Tcl takes from the process's environment: the `env` array,
+/// `tcl_platform(user)` and `(osVersion)`, `info nameofexecutable`, and
+/// `auto_path` (`$TCLLIBPATH`, then where Debian keeps Tcl packages, so
+/// `package require` finds script packages as tclsh does).
+fn set_environment(interp: &mut Interp) {
+    for (k, v) in std::env::vars_os() {
+        if let (Some(k), Some(v)) = (k.to_str(), v.to_str()) {
+            let _ = interp.set_var(&format!("env({k})"), Value::from(v));
+        }
+    }
+    let user = std::env::var("USER").or_else(|_| std::env::var("LOGNAME")).unwrap_or_default();
+    let _ = interp.set_var("tcl_platform(user)", Value::from(user.as_str()));
+    if let Ok(release) = std::fs::read_to_string("/proc/sys/kernel/osrelease") {
+        let _ = interp.set_var("tcl_platform(osVersion)", Value::from(release.trim()));
+    }
+    if let Ok(exe) = std::env::current_exe() {
+        interp.executable = exe.to_string_lossy().into_owned();
+    }
+    let mut path: Vec<Value> = std::env::var("TCLLIBPATH")
+        .map(|p| p.split_whitespace().map(Value::from).collect())
+        .unwrap_or_default();
+    for dir in ["/usr/share/tcltk/tcl8.6", "/usr/share/tcltk", "/usr/lib/tcltk", "/usr/local/lib/tcltk"] {
+        path.push(Value::from(dir));
+    }
+    let _ = interp.set_var("auto_path", Value::from_list(path));
+}
+
 fn register_shell_commands(interp: &mut Interp) {
+    set_environment(interp);
     interp.register_host(
         "file",
         "subcommand name ?arg ...?",

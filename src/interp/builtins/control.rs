@@ -21,6 +21,19 @@ pub(super) const COMMANDS: &[Entry] = &[
     ("while", cmd_while, "test command", "loop while a condition holds"),
     ("for", cmd_for, "start test next command", "C-style loop"),
     ("foreach", cmd_foreach, "varList list ?varList list ...? command", "loop over list elements"),
+    (
+        "lmap",
+        cmd_lmap,
+        "varList list ?varList list ...? command",
+        "the list of a body's results over list elements",
+    ),
+    ("apply", cmd_apply, "lambdaExpr ?arg ...?", "call an anonymous procedure"),
+    (
+        "subst",
+        cmd_subst,
+        "?-nobackslashes? ?-nocommands? ?-novariables? string",
+        "a string with its backslashes, commands and variables substituted",
+    ),
     ("break", cmd_break, "", "leave the innermost loop"),
     ("continue", cmd_continue, "", "skip to the next loop iteration"),
     (
@@ -155,8 +168,23 @@ fn cmd_for(interp: &mut Interp, argv: &[Value]) -> TclResult {
 }
 
 fn cmd_foreach(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    each(interp, argv, None)
+}
+
+fn cmd_lmap(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    let mut out = Vec::new();
+    each(interp, argv, Some(&mut out))?;
+    Ok(Value::from_list(out))
+}
+
+/// `foreach`, or `lmap` when `collect` takes the body's results (those
+/// that end normally: `continue` skips one, `break` ends the loop).
+fn each(interp: &mut Interp, argv: &[Value], mut collect: Option<&mut Vec<Value>>) -> TclResult {
     if argv.len() < 4 || !argv.len().is_multiple_of(2) {
-        return Err(Exception::wrong_args("foreach varList list ?varList list ...? command"));
+        return Err(Exception::wrong_args(&format!(
+            "{} varList list ?varList list ...? command",
+            argv[0].as_str()
+        )));
     }
     let mut groups = Vec::new();
     let mut n_iter = 0;
@@ -177,11 +205,83 @@ fn cmd_foreach(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 interp.set_var(var.as_str(), v)?;
             }
         }
-        if let Flow::Stop = loop_body(interp.eval(body))? {
+        let r = interp.eval(body);
+        if let (Some(out), Ok(v)) = (collect.as_deref_mut(), &r) {
+            out.push(v.clone());
+        }
+        if let Flow::Stop = loop_body(r)? {
             break;
         }
     }
     Ok(Value::empty())
+}
+
+/// `apply {args body ?namespace?} ?arg ...?`: the lambda's parameters are
+/// parsed as `proc`'s, and it runs in a frame of its own.
+fn cmd_apply(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "lambdaExpr ?arg ...?")?;
+    let lambda = &argv[1];
+    let parts = lambda.as_list()?;
+    if !(2..=3).contains(&parts.len()) {
+        return Err(Exception::error(format!(
+            "can't interpret \"{}\" as a lambda expression",
+            lambda.as_str()
+        )));
+    }
+    let (params, variadic) = parse_params(&parts[0])?;
+    let p = Proc {
+        name: String::new(),
+        params,
+        variadic,
+        body: parts[1].clone(),
+        arg_spec: parts[0].clone(),
+        lambda: Some(lambda.clone()),
+    };
+    interp.call_lambda(&p, &argv[1..])
+}
+
+fn cmd_subst(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    let usage = "?-nobackslashes? ?-nocommands? ?-novariables? string";
+    check_args(argv, 2, 5, usage)?;
+    let (mut backslashes, mut commands, mut variables) = (true, true, true);
+    for o in &argv[1..argv.len() - 1] {
+        match pick_option(o.as_str(), &["-nobackslashes", "-nocommands", "-novariables"], "option")? {
+            "-nobackslashes" => backslashes = false,
+            "-nocommands" => commands = false,
+            _ => variables = false,
+        }
+    }
+    let text = &argv[argv.len() - 1];
+    let mut p = parser::Parser::new(Rc::from(text.as_str()), None, 1);
+    let parts = p
+        .subst_parts(backslashes, commands, variables)
+        .map_err(|e| Exception::error(e.msg))?;
+    interp.subst(&parts)
+}
+
+/// A `proc`'s or lambda's parameter list: each name with its default, and
+/// whether the last is `args`.
+fn parse_params(spec: &Value) -> Result<(Vec<(Rc<str>, Option<Value>)>, bool), Exception> {
+    let spec = spec.as_list()?;
+    let mut params = Vec::new();
+    for p in spec.iter() {
+        let fields = p.as_list()?;
+        match fields.len() {
+            0 => return Err(Exception::error("argument with no name")),
+            1 => params.push((Rc::from(fields[0].as_str()), None)),
+            2 => params.push((Rc::from(fields[0].as_str()), Some(fields[1].clone()))),
+            _ => {
+                return Err(Exception::error(format!(
+                    "too many fields in argument specifier \"{}\"",
+                    p.as_str()
+                )));
+            }
+        }
+    }
+    let variadic = params
+        .last()
+        .is_some_and(|(n, d): &(Rc<str>, Option<Value>)| &**n == "args" && d.is_none());
+    Ok((params, variadic))
 }
 
 fn cmd_break(_: &mut Interp, argv: &[Value]) -> TclResult {
@@ -256,25 +356,7 @@ fn cmd_switch(interp: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn cmd_proc(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 4, 4, "name args body")?;
-    let spec = argv[2].as_list()?;
-    let mut params = Vec::new();
-    for p in spec.iter() {
-        let fields = p.as_list()?;
-        match fields.len() {
-            0 => return Err(Exception::error("argument with no name")),
-            1 => params.push((Rc::from(fields[0].as_str()), None)),
-            2 => params.push((Rc::from(fields[0].as_str()), Some(fields[1].clone()))),
-            _ => {
-                return Err(Exception::error(format!(
-                    "too many fields in argument specifier \"{}\"",
-                    p.as_str()
-                )));
-            }
-        }
-    }
-    let variadic = params
-        .last()
-        .is_some_and(|(n, d): &(Rc<str>, Option<Value>)| &**n == "args" && d.is_none());
+    let (params, variadic) = parse_params(&argv[2])?;
     let name = argv[1].as_str();
     let name = name.strip_prefix("::").unwrap_or(name).to_string();
     interp.define_proc(Proc {
@@ -283,6 +365,7 @@ fn cmd_proc(interp: &mut Interp, argv: &[Value]) -> TclResult {
         variadic,
         body: argv[3].clone(),
         arg_spec: argv[2].clone(),
+        lambda: None,
     });
     Ok(Value::empty())
 }
@@ -477,8 +560,21 @@ fn filter(names: Vec<String>, pattern: Option<&Value>) -> Value {
 }
 
 pub(crate) const INFO_SUBCOMMANDS: &[&str] = &[
-    "args", "body", "commands", "complete", "default", "exists", "globals", "level", "locals",
-    "procs", "script", "vars",
+    "args",
+    "body",
+    "commands",
+    "complete",
+    "default",
+    "exists",
+    "globals",
+    "level",
+    "locals",
+    "nameofexecutable",
+    "patchlevel",
+    "procs",
+    "script",
+    "tclversion",
+    "vars",
 ];
 
 fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
@@ -581,6 +677,16 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
             Ok(filter(names, args.first()))
         }
         "script" => Ok(interp.script_file.as_deref().map(Value::from).unwrap_or_else(Value::empty)),
+        "patchlevel" | "tclversion" | "nameofexecutable" => {
+            if !args.is_empty() {
+                return Err(usage(""));
+            }
+            Ok(Value::from(match sub {
+                "patchlevel" => super::TCL_PATCHLEVEL,
+                "tclversion" => super::TCL_VERSION,
+                _ => interp.executable.as_str(),
+            }))
+        }
         _ => unreachable!("pick_option only returns listed names"),
     }
 }

@@ -3,6 +3,7 @@
 
 mod control;
 mod lists;
+mod package;
 mod strings;
 mod vars;
 
@@ -17,6 +18,8 @@ pub fn subcommands(command: &str) -> Option<&'static [&'static str]> {
     }
 }
 
+pub use package::{Packages, TCL_PATCHLEVEL, TCL_VERSION};
+
 use super::error::Exception;
 use super::eval::{Interp, NativeFn};
 use super::value::Value;
@@ -24,8 +27,13 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 4] =
-        [control::COMMANDS, vars::COMMANDS, lists::COMMANDS, strings::COMMANDS];
+    let tables: [&[Entry]; 5] = [
+        control::COMMANDS,
+        vars::COMMANDS,
+        lists::COMMANDS,
+        strings::COMMANDS,
+        package::COMMANDS,
+    ];
     for table in tables {
         for (name, f, usage, summary) in table {
             interp.register(name, *f, usage, summary);
