@@ -548,19 +548,21 @@ impl Interp {
         r
     }
 
-    /// Calls a lambda (`apply`): `argv` is the lambda term and the
-    /// arguments.
+    /// Calls a lambda: `argv` is `apply`'s words (`apply`, the lambda
+    /// term, the arguments), as `info level 0` shows them.
     pub(crate) fn call_lambda(&mut self, p: &Proc, argv: &[Value]) -> TclResult {
         self.call_proc(p, argv)
     }
 
     fn call_proc(&mut self, p: &Proc, argv: &[Value]) -> TclResult {
+        // The words before the arguments: the name, or `apply` and the term.
+        let skip = if p.lambda.is_some() { 2 } else { 1 };
         let mut vars: FxHashMap<Rc<str>, VarCell> = FxHashMap::default();
-        let n_args = argv.len() - 1;
+        let n_args = argv.len() - skip;
         let n_fixed = p.params.len() - p.variadic as usize;
         for (i, (name, default)) in p.params.iter().enumerate().take(n_fixed) {
             let v = if i < n_args {
-                argv[i + 1].clone()
+                argv[i + skip].clone()
             } else if let Some(d) = default {
                 d.clone()
             } else {
@@ -569,7 +571,8 @@ impl Interp {
             vars.insert(name.clone(), Rc::new(RefCell::new(Var::Scalar(v))));
         }
         if p.variadic {
-            let rest = if n_args > n_fixed { argv[n_fixed + 1..].to_vec() } else { Vec::new() };
+            let rest =
+                if n_args > n_fixed { argv[n_fixed + skip..].to_vec() } else { Vec::new() };
             vars.insert(
                 Rc::from("args"),
                 Rc::new(RefCell::new(Var::Scalar(Value::from_list(rest)))),
@@ -592,7 +595,7 @@ impl Interp {
                     let what = if p.lambda.is_some() { "lambda term" } else { "procedure" };
                     e.trace.push_str(&format!(
                         "\n    ({what} \"{}\" line {})",
-                        truncate_cmd(argv[0].as_str()),
+                        truncate_cmd(argv[skip - 1].as_str()),
                         e.script_line
                     ));
                     Err(e)

@@ -228,7 +228,11 @@ fn cmd_apply(interp: &mut Interp, argv: &[Value]) -> TclResult {
             lambda.as_str()
         )));
     }
-    let (params, variadic) = parse_params(&parts[0])?;
+    let (params, variadic) = parse_params(&parts[0]).map_err(|mut e| {
+        e.trace = format!("{}\n    (parsing lambda expression \"{}\")", e.value.as_str(), lambda.as_str());
+        e.traced = true;
+        e
+    })?;
     let p = Proc {
         name: String::new(),
         params,
@@ -237,7 +241,7 @@ fn cmd_apply(interp: &mut Interp, argv: &[Value]) -> TclResult {
         arg_spec: parts[0].clone(),
         lambda: Some(lambda.clone()),
     };
-    interp.call_lambda(&p, &argv[1..])
+    interp.call_lambda(&p, argv)
 }
 
 fn cmd_subst(interp: &mut Interp, argv: &[Value]) -> TclResult {
@@ -268,8 +272,20 @@ fn parse_params(spec: &Value) -> Result<(Vec<(Rc<str>, Option<Value>)>, bool), E
         let fields = p.as_list()?;
         match fields.len() {
             0 => return Err(Exception::error("argument with no name")),
-            1 => params.push((Rc::from(fields[0].as_str()), None)),
-            2 => params.push((Rc::from(fields[0].as_str()), Some(fields[1].clone()))),
+            1 | 2 => {
+                let name = fields[0].as_str();
+                if name.contains("::") {
+                    return Err(Exception::error(format!(
+                        "formal parameter \"{name}\" is not a simple name"
+                    )));
+                }
+                if name.ends_with(')') && name.contains('(') {
+                    return Err(Exception::error(format!(
+                        "formal parameter \"{name}\" is an array element"
+                    )));
+                }
+                params.push((Rc::from(name), fields.get(1).cloned()));
+            }
             _ => {
                 return Err(Exception::error(format!(
                     "too many fields in argument specifier \"{}\"",
@@ -602,6 +618,11 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
             }
             let names =
                 if sub == "commands" { interp.command_names() } else { interp.proc_names() };
+            // A qualified pattern (`::apply`) gives qualified names.
+            if let Some(p) = args.first().and_then(|p| p.as_str().strip_prefix("::")) {
+                let names = names.into_iter().map(|n| format!("::{n}")).collect();
+                return Ok(filter(names, Some(&Value::from(format!("::{p}").as_str()))));
+            }
             Ok(filter(names, args.first()))
         }
         "complete" => {
