@@ -15,6 +15,9 @@ pub enum Code {
     Continue,
     /// `exit N`: not catchable, unwinds to the host.
     Exit(i32),
+    /// Any other completion code (`return -code 5`), for scripts' own
+    /// control structures.
+    Other(i32),
 }
 
 impl Code {
@@ -26,7 +29,20 @@ impl Code {
             Code::Break => 3,
             Code::Continue => 4,
             Code::Exit(_) => 1,
+            Code::Other(n) => n as i64,
         }
+    }
+
+    /// The code of an integer (`catch`'s numbering).
+    pub fn from_int(n: i64) -> Option<Code> {
+        Some(match n {
+            0 => return None,
+            1 => Code::Error,
+            2 => Code::Return,
+            3 => Code::Break,
+            4 => Code::Continue,
+            n => Code::Other(i32::try_from(n).unwrap_or(if n < 0 { i32::MIN } else { i32::MAX })),
+        })
     }
 }
 

@@ -444,7 +444,7 @@ impl Interp {
                         Code::Error | Code::Exit(_) => return Err(e),
                         Code::Break => break,
                         Code::Continue => {}
-                        Code::Return => out.push_str(e.value.as_str()),
+                        Code::Return | Code::Other(_) => out.push_str(e.value.as_str()),
                     },
                 },
             }
@@ -571,8 +571,7 @@ impl Interp {
             vars.insert(name.clone(), Rc::new(RefCell::new(Var::Scalar(v))));
         }
         if p.variadic {
-            let rest =
-                if n_args > n_fixed { argv[n_fixed + skip..].to_vec() } else { Vec::new() };
+            let rest = if n_args > n_fixed { argv[n_fixed + skip..].to_vec() } else { Vec::new() };
             vars.insert(
                 Rc::from("args"),
                 Rc::new(RefCell::new(Var::Scalar(Value::from_list(rest)))),
@@ -602,7 +601,7 @@ impl Interp {
                 }
                 Code::Break => Err(Exception::error("invoked \"break\" outside of a loop")),
                 Code::Continue => Err(Exception::error("invoked \"continue\" outside of a loop")),
-                Code::Exit(_) => Err(e),
+                Code::Exit(_) | Code::Other(_) => Err(e),
             },
         }
     }

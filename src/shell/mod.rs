@@ -227,7 +227,9 @@ fn set_environment(interp: &mut Interp) {
     let mut path: Vec<Value> = std::env::var("TCLLIBPATH")
         .map(|p| p.split_whitespace().map(Value::from).collect())
         .unwrap_or_default();
-    for dir in ["/usr/share/tcltk/tcl8.6", "/usr/share/tcltk", "/usr/lib/tcltk", "/usr/local/lib/tcltk"] {
+    for dir in
+        ["/usr/share/tcltk/tcl8.6", "/usr/share/tcltk", "/usr/lib/tcltk", "/usr/local/lib/tcltk"]
+    {
         path.push(Value::from(dir));
     }
     let _ = interp.set_var("auto_path", Value::from_list(path));
@@ -404,6 +406,12 @@ pub fn finish(interp: &mut Interp, r: Result<Value, Exception>) -> i32 {
             // As a process's status: the low byte (`exit -1` is 255).
             Code::Exit(n) => n & 0xff,
             Code::Return => 0,
+            Code::Other(n) => {
+                let mut err = Exception::error(format!("command returned bad code: {n}"));
+                err.loc = e.loc.clone();
+                report_error(interp, &err);
+                1
+            }
             Code::Break | Code::Continue => {
                 let word = if e.code == Code::Break { "break" } else { "continue" };
                 let mut err = Exception::error(format!("invoked \"{word}\" outside of a loop"));

@@ -186,6 +186,7 @@ pub fn eval_line(interp: &mut Interp, line: &str) -> Reply {
                 Reply::Error(e.value.as_str().to_string())
             }
             Code::Return => shown(&e.value),
+            Code::Other(n) => Reply::Error(format!("command returned bad code: {n}")),
             Code::Break | Code::Continue => {
                 let w = if e.code == Code::Break { "break" } else { "continue" };
                 Reply::Error(format!("invoked \"{w}\" outside of a loop"))

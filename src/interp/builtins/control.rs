@@ -29,6 +29,13 @@ pub(super) const COMMANDS: &[Entry] = &[
     ),
     ("apply", cmd_apply, "lambdaExpr ?arg ...?", "call an anonymous procedure"),
     (
+        "try",
+        cmd_try,
+        "body ?on code variableList script ...? ?trap pattern variableList script ...? ?finally script?",
+        "run a body, handle its outcome by code or error code, and always a finally script",
+    ),
+    ("throw", cmd_throw, "type message", "raise an error with an error code"),
+    (
         "subst",
         cmd_subst,
         "?-nobackslashes? ?-nocommands? ?-novariables? string",
@@ -229,7 +236,11 @@ fn cmd_apply(interp: &mut Interp, argv: &[Value]) -> TclResult {
         )));
     }
     let (params, variadic) = parse_params(&parts[0]).map_err(|mut e| {
-        e.trace = format!("{}\n    (parsing lambda expression \"{}\")", e.value.as_str(), lambda.as_str());
+        e.trace = format!(
+            "{}\n    (parsing lambda expression \"{}\")",
+            e.value.as_str(),
+            lambda.as_str()
+        );
         e.traced = true;
         e
     })?;
@@ -249,7 +260,8 @@ fn cmd_subst(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, 5, usage)?;
     let (mut backslashes, mut commands, mut variables) = (true, true, true);
     for o in &argv[1..argv.len() - 1] {
-        match pick_option(o.as_str(), &["-nobackslashes", "-nocommands", "-novariables"], "option")? {
+        match pick_option(o.as_str(), &["-nobackslashes", "-nocommands", "-novariables"], "option")?
+        {
             "-nobackslashes" => backslashes = false,
             "-nocommands" => commands = false,
             _ => variables = false,
@@ -257,9 +269,8 @@ fn cmd_subst(interp: &mut Interp, argv: &[Value]) -> TclResult {
     }
     let text = &argv[argv.len() - 1];
     let mut p = parser::Parser::new(Rc::from(text.as_str()), None, 1);
-    let parts = p
-        .subst_parts(backslashes, commands, variables)
-        .map_err(|e| Exception::error(e.msg))?;
+    let parts =
+        p.subst_parts(backslashes, commands, variables).map_err(|e| Exception::error(e.msg))?;
     interp.subst(&parts)
 }
 
@@ -388,16 +399,19 @@ fn cmd_proc(interp: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn parse_code(v: &Value) -> Result<Option<Code>, Exception> {
     Ok(match v.as_str() {
-        "ok" | "0" => None,
-        "error" | "1" => Some(Code::Error),
-        "return" | "2" => Some(Code::Return),
-        "break" | "3" => Some(Code::Break),
-        "continue" | "4" => Some(Code::Continue),
-        s => {
-            return Err(Exception::error(format!(
-                "bad completion code \"{s}\": must be ok, error, return, break, continue, or an integer"
-            )));
-        }
+        "ok" => None,
+        "error" => Some(Code::Error),
+        "return" => Some(Code::Return),
+        "break" => Some(Code::Break),
+        "continue" => Some(Code::Continue),
+        s => match crate::interp::number::parse_int(s) {
+            Some(n) => Code::from_int(n),
+            None => {
+                return Err(Exception::error(format!(
+                    "bad completion code \"{s}\": must be ok, error, return, break, continue, or an integer"
+                )));
+            }
+        },
     })
 }
 
@@ -405,33 +419,58 @@ fn cmd_return(_: &mut Interp, argv: &[Value]) -> TclResult {
     let mut code = None;
     let mut level = 1u32;
     let mut error_code = None;
+    let mut error_info = None;
+    // The options, `-options` dictionaries spread out in place.
+    let mut opts: Vec<Value> = Vec::new();
     let mut i = 1;
     while i + 1 < argv.len() {
-        match argv[i].as_str() {
-            "-code" => code = parse_code(&argv[i + 1])?,
-            "-level" => {
-                let l = argv[i + 1].as_int()?;
-                level = u32::try_from(l).map_err(|_| {
-                    Exception::error(format!(
-                        "bad -level value: expected non-negative integer but got \"{}\"",
-                        argv[i + 1].as_str()
-                    ))
-                })?;
+        if argv[i].as_str() == "-options" {
+            let d = argv[i + 1].as_list()?;
+            if d.len() % 2 != 0 {
+                return Err(Exception::error(format!(
+                    "bad -options value: expected dictionary but got \"{}\"",
+                    argv[i + 1].as_str()
+                )));
             }
-            "-errorcode" => error_code = Some(argv[i + 1].clone()),
-            "-errorinfo" | "-options" => {}
-            _ => break,
+            opts.extend(d.iter().cloned());
+        } else {
+            opts.extend([argv[i].clone(), argv[i + 1].clone()]);
         }
         i += 2;
     }
+    for kv in opts.chunks(2) {
+        let v = &kv[1];
+        match kv[0].as_str() {
+            "-code" => code = parse_code(v)?,
+            "-level" => {
+                let l = v.as_int()?;
+                level = u32::try_from(l).map_err(|_| {
+                    Exception::error(format!(
+                        "bad -level value: expected non-negative integer but got \"{}\"",
+                        v.as_str()
+                    ))
+                })?;
+            }
+            "-errorcode" => error_code = Some(v.clone()),
+            "-errorinfo" => error_info = Some(v.as_str().to_string()),
+            _ => {}
+        }
+    }
     let value = if i < argv.len() { argv[i].clone() } else { Value::empty() };
+    let with_info = |mut e: Exception| {
+        if let Some(info) = &error_info {
+            e.trace = info.clone();
+            e.traced = true;
+        }
+        e
+    };
     if level == 0 {
         return match code {
             None => Ok(value),
             Some(Code::Error) => {
                 let mut e = Exception::error(value.as_str().to_string());
                 e.error_code = error_code;
-                Err(e)
+                Err(with_info(e))
             }
             Some(c) => Err(Exception::flow(c, value)),
         };
@@ -440,45 +479,198 @@ fn cmd_return(_: &mut Interp, argv: &[Value]) -> TclResult {
     e.return_code = code;
     e.level = level;
     e.error_code = error_code;
+    if let Some(info) = error_info {
+        e.trace = info;
+    }
     Err(e)
 }
 
 fn cmd_catch(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, 4, "script ?resultVarName? ?optionsVarName?")?;
-    let (code, value, e) = match interp.eval(&argv[1]) {
-        Ok(v) => (0, v, None),
-        Err(e) => match e.code {
-            Code::Exit(_) => return Err(e),
-            c => (c.as_int(), e.value.clone(), Some(e)),
-        },
-    };
-    if let Some(e) = &e
-        && e.code == Code::Error
+    let r = interp.eval(&argv[1]);
+    if let Err(e) = &r
+        && let Code::Exit(_) = e.code
     {
-        interp.set_var("::errorInfo", Value::from(e.error_info()))?;
-        interp.set_var("::errorCode", e.error_code())?;
+        return r;
     }
+    let (code, value, opts) = outcome(interp, &r)?;
     if argv.len() > 2 {
         interp.set_var(argv[2].as_str(), value)?;
     }
     if argv.len() > 3 {
-        let mut opts = vec![Value::from("-code"), Value::from_int(code), Value::from("-level")];
-        opts.push(Value::from_int(0));
-        if let Some(e) = &e
-            && e.code == Code::Error
-        {
-            opts.extend([
-                Value::from("-errorinfo"),
-                Value::from(e.error_info()),
-                Value::from("-errorcode"),
-                e.error_code(),
-                Value::from("-errorline"),
-                Value::from_int(e.script_line as i64),
-            ]);
-        }
-        interp.set_var(argv[3].as_str(), Value::from_list(opts))?;
+        interp.set_var(argv[3].as_str(), opts)?;
     }
     Ok(Value::from_int(code))
+}
+
+/// What `catch` and `try` see of a script's outcome: its code, its value
+/// and its options dictionary (`-code`, `-level`, and for errors
+/// `-errorcode`, `-errorinfo`, `-errorline`); an error also sets
+/// `::errorInfo` and `::errorCode`.
+fn outcome(interp: &mut Interp, r: &TclResult) -> Result<(i64, Value, Value), Exception> {
+    let e = match r {
+        Ok(v) => {
+            let opts = vec![
+                Value::from("-code"),
+                Value::from_int(0),
+                Value::from("-level"),
+                Value::from_int(0),
+            ];
+            return Ok((0, v.clone(), Value::from_list(opts)));
+        }
+        Err(e) => e,
+    };
+    let mut opts = Vec::new();
+    if e.code == Code::Return {
+        // `return -code c -level n`: the code it will become, and the levels
+        // still to go.
+        let c = e.return_code.map_or(0, Code::as_int);
+        if e.return_code == Some(Code::Error) || e.error_code.is_some() {
+            opts.extend([Value::from("-errorcode"), e.error_code()]);
+        }
+        opts.extend([Value::from("-code"), Value::from_int(c), Value::from("-level")]);
+        opts.push(Value::from_int(e.level as i64));
+        return Ok((2, e.value.clone(), Value::from_list(opts)));
+    }
+    opts.extend([Value::from("-code"), Value::from_int(e.code.as_int()), Value::from("-level")]);
+    opts.push(Value::from_int(0));
+    if e.code == Code::Error {
+        interp.set_var("::errorInfo", Value::from(e.error_info()))?;
+        interp.set_var("::errorCode", e.error_code())?;
+        opts.extend([
+            Value::from("-errorcode"),
+            e.error_code(),
+            Value::from("-errorinfo"),
+            Value::from(e.error_info()),
+            Value::from("-errorline"),
+            Value::from_int(e.script_line as i64),
+        ]);
+    }
+    Ok((e.code.as_int(), e.value.clone(), Value::from_list(opts)))
+}
+
+/// `try body ?on code vars script? ?trap pattern vars script? ... ?finally script?`
+fn cmd_try(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    if argv.len() < 2 {
+        return Err(Exception::wrong_args("try body ?handler ...? ?finally script?"));
+    }
+    // The handlers: (on code | trap pattern, variables, script).
+    enum Match {
+        Code(i64),
+        Trap(Vec<Value>),
+    }
+    let mut handlers = Vec::new();
+    let mut finally = None;
+    let mut i = 2;
+    while i < argv.len() {
+        match argv[i].as_str() {
+            w @ ("on" | "trap") => {
+                if i + 3 >= argv.len() {
+                    return Err(Exception::error(format!(
+                        "wrong # args to {w} clause: must be \"... {w} {} variableList script\"",
+                        if w == "on" { "code" } else { "pattern" }
+                    )));
+                }
+                let m = if w == "on" {
+                    Match::Code(parse_code(&argv[i + 1])?.map_or(0, Code::as_int))
+                } else {
+                    Match::Trap(argv[i + 1].as_list()?.to_vec())
+                };
+                let vars = argv[i + 2].as_list()?;
+                if vars.len() > 2 {
+                    return Err(Exception::error(
+                        "wrong # args to variableList: must be \"?resultVar? ?optionsVar?\"",
+                    ));
+                }
+                handlers.push((m, vars.to_vec(), argv[i + 3].clone()));
+                i += 4;
+            }
+            "finally" if i + 2 == argv.len() => {
+                finally = Some(argv[i + 1].clone());
+                i += 2;
+            }
+            "finally" => {
+                return Err(Exception::error(
+                    "wrong # args to finally clause: must be \"... finally script\"",
+                ));
+            }
+            w => {
+                return Err(Exception::error(format!(
+                    "bad handler \"{w}\": must be finally, on, or trap"
+                )));
+            }
+        }
+    }
+    if handlers.last().is_some_and(|h| h.2.as_str() == "-") {
+        return Err(Exception::error("last non-finally clause must not have a body of \"-\""));
+    }
+    let r = interp.eval(&argv[1]);
+    if let Err(e) = &r
+        && let Code::Exit(_) = e.code
+    {
+        return r;
+    }
+    let (code, value, opts) = outcome(interp, &r)?;
+    let error_code = match &r {
+        Err(e) if e.code == Code::Error => Some(e.error_code()),
+        _ => None,
+    };
+    let found = handlers.iter().position(|(m, _, _)| match m {
+        Match::Code(c) => *c == code,
+        Match::Trap(pattern) => error_code.as_ref().is_some_and(|ec| {
+            ec.as_list().is_ok_and(|ec| {
+                pattern.len() <= ec.len()
+                    && pattern.iter().zip(ec.iter()).all(|(a, b)| a.as_str() == b.as_str())
+            })
+        }),
+    });
+    let mut result = r;
+    if let Some(k) = found {
+        let (_, vars, _) = &handlers[k];
+        // A body of "-" falls through to the next handler's.
+        let script = handlers[k..]
+            .iter()
+            .map(|h| &h.2)
+            .find(|s| s.as_str() != "-")
+            .cloned()
+            .unwrap_or_default();
+        if let Some(v) = vars.first() {
+            interp.set_var(v.as_str(), value)?;
+        }
+        if let Some(v) = vars.get(1) {
+            interp.set_var(v.as_str(), opts)?;
+        }
+        result = interp.eval(&script).map_err(|mut e| {
+            if e.code == Code::Error {
+                let what = if matches!(handlers[k].0, Match::Code(_)) { "on" } else { "trap" };
+                e.trace.push_str(&format!(
+                    "\n    (\"try ... {what}\" handler line {})",
+                    e.script_line
+                ));
+            }
+            e
+        });
+    }
+    if let Some(f) = finally {
+        interp.eval(&f).map_err(|mut e| {
+            if e.code == Code::Error {
+                e.trace.push_str(&format!("\n    (\"finally\" body line {})", e.script_line));
+            }
+            e
+        })?;
+    }
+    result
+}
+
+/// `throw type message`: an error with `type` as its error code.
+fn cmd_throw(_: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 3, 3, "type message")?;
+    if argv[1].as_list()?.is_empty() {
+        return Err(Exception::error("type must be non-empty list"));
+    }
+    let mut e = Exception::error(argv[2].as_str().to_string());
+    e.error_code = Some(argv[1].clone());
+    Err(e)
 }
 
 fn cmd_error(_: &mut Interp, argv: &[Value]) -> TclResult {

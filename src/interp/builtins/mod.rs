@@ -27,13 +27,8 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 5] = [
-        control::COMMANDS,
-        vars::COMMANDS,
-        lists::COMMANDS,
-        strings::COMMANDS,
-        package::COMMANDS,
-    ];
+    let tables: [&[Entry]; 5] =
+        [control::COMMANDS, vars::COMMANDS, lists::COMMANDS, strings::COMMANDS, package::COMMANDS];
     for table in tables {
         for (name, f, usage, summary) in table {
             interp.register(name, *f, usage, summary);

@@ -115,12 +115,11 @@ fn satisfies(v: &[i64], req: &str) -> Result<bool, Exception> {
         }
         let hi = parse(hi).ok_or_else(bad)?;
         // min-max: max excluded, unless min == max.
-        return Ok(compare(v, &hi) == Ordering::Less || compare(&lo, &hi) == Ordering::Equal
-            && compare(v, &hi) == Ordering::Equal);
+        return Ok(compare(v, &hi) == Ordering::Less
+            || compare(&lo, &hi) == Ordering::Equal && compare(v, &hi) == Ordering::Equal);
     }
-    let min = parse(req).ok_or_else(|| {
-        Exception::error(format!("expected version number but got \"{req}\""))
-    })?;
+    let min = parse(req)
+        .ok_or_else(|| Exception::error(format!("expected version number but got \"{req}\"")))?;
     Ok(v.first() == min.first() && compare(v, &min) != Ordering::Less)
 }
 
@@ -177,7 +176,11 @@ fn cmd_package(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 ))
             };
             if let Some(have) = provided(interp, name) {
-                return if ok(&have)? { Ok(Value::from(have.as_str())) } else { Err(conflict(&have)) };
+                return if ok(&have)? {
+                    Ok(Value::from(have.as_str()))
+                } else {
+                    Err(conflict(&have))
+                };
             }
             if sub == "present" {
                 return Err(Exception::error(format!("package {name} is not present")));
@@ -197,7 +200,10 @@ fn cmd_package(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 }
             }
             let Some((_, script)) = best else {
-                return Err(Exception::error(format!("can't find package {name}{}", if reqs.is_empty() { String::new() } else { format!(" {}", reqs.join(" ")) })));
+                return Err(Exception::error(format!(
+                    "can't find package {name}{}",
+                    if reqs.is_empty() { String::new() } else { format!(" {}", reqs.join(" ")) }
+                )));
             };
             interp.eval_global(script.as_str())?;
             match provided(interp, name) {
@@ -309,10 +315,7 @@ fn scan_auto_path(interp: &mut Interp) -> Result<(), Exception> {
         }
     "#;
     // Without `glob` (a host without files), only the directories.
-    let fallback = script.replace(
-        "{*}[glob -nocomplain -- [file join $__d * pkgIndex.tcl]]",
-        "",
-    );
+    let fallback = script.replace("{*}[glob -nocomplain -- [file join $__d * pkgIndex.tcl]]", "");
     let have_glob = interp.command_names().iter().any(|n| n == "glob");
     interp.eval_global(if have_glob { script } else { &fallback })?;
     Ok(())
