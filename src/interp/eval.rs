@@ -159,6 +159,8 @@ pub struct Interp {
     pub(crate) packages: super::builtins::Packages,
     /// What `info nameofexecutable` says (the host sets it).
     pub executable: String,
+    /// `interp alias`: each alias's target words.
+    pub(crate) aliases: BTreeMap<String, Vec<Value>>,
 }
 
 fn truncate_cmd(text: &str) -> String {
@@ -207,6 +209,7 @@ impl Interp {
             help: BTreeMap::new(),
             packages: Default::default(),
             executable: String::new(),
+            aliases: BTreeMap::new(),
         };
         interp.seed_rand(0);
         super::builtins::register_all(&mut interp);

@@ -36,6 +36,12 @@ pub(super) const COMMANDS: &[Entry] = &[
     ),
     ("throw", cmd_throw, "type message", "raise an error with an error code"),
     (
+        "interp",
+        cmd_interp,
+        "subcommand ?arg ...?",
+        "aliases, the recursion limit, eval: of this interpreter (`{}`) only",
+    ),
+    (
         "subst",
         cmd_subst,
         "?-nobackslashes? ?-nocommands? ?-novariables? string",
@@ -274,9 +280,11 @@ fn cmd_subst(interp: &mut Interp, argv: &[Value]) -> TclResult {
     interp.subst(&parts)
 }
 
-/// A `proc`'s or lambda's parameter list: each name with its default, and
-/// whether the last is `args`.
-fn parse_params(spec: &Value) -> Result<(Vec<(Rc<str>, Option<Value>)>, bool), Exception> {
+/// Parameters: each name with its default.
+type Params = Vec<(Rc<str>, Option<Value>)>;
+
+/// A `proc`'s or lambda's parameter list, and whether the last is `args`.
+fn parse_params(spec: &Value) -> Result<(Params, bool), Exception> {
     let spec = spec.as_list()?;
     let mut params = Vec::new();
     for p in spec.iter() {
@@ -660,6 +668,96 @@ fn cmd_try(interp: &mut Interp, argv: &[Value]) -> TclResult {
         })?;
     }
     result
+}
+
+/// `interp` for the one interpreter there is (the path `{}`): `alias`,
+/// `aliases`, `eval`, `exists`, `recursionlimit`.
+fn cmd_interp(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "cmd ?arg ...?")?;
+    let sub = pick_option(
+        argv[1].as_str(),
+        &["alias", "aliases", "eval", "exists", "recursionlimit"],
+        "option",
+    )?;
+    let args = &argv[2..];
+    let this = |v: &Value| -> Result<(), Exception> {
+        let p = v.as_list()?;
+        if p.is_empty() {
+            Ok(())
+        } else {
+            Err(Exception::error(format!("could not find interpreter \"{}\"", v.as_str())))
+        }
+    };
+    match sub {
+        "exists" => {
+            check_args(argv, 2, 3, "exists ?path?")?;
+            Ok(Value::from_bool(
+                args.first().is_none_or(|p| p.as_list().is_ok_and(|l| l.is_empty())),
+            ))
+        }
+        "recursionlimit" => {
+            check_args(argv, 3, 4, "recursionlimit path ?maxRecursion?")?;
+            this(&args[0])?;
+            if let Some(n) = args.get(1) {
+                let n = n.as_int()?;
+                if n <= 0 {
+                    return Err(Exception::error("recursion limit must be > 0"));
+                }
+                interp.max_depth = (n as usize).min(super::super::eval::DEFAULT_MAX_DEPTH * 10);
+            }
+            Ok(Value::from_int(interp.max_depth as i64))
+        }
+        "eval" => {
+            check_args(argv, 4, usize::MAX, "eval path arg ?arg ...?")?;
+            this(&args[0])?;
+            let script = concat(&args[1..])?;
+            let src = script.as_str().to_string();
+            interp.eval_global(&src)
+        }
+        "aliases" => {
+            check_args(argv, 2, 3, "aliases ?path?")?;
+            if let Some(p) = args.first() {
+                this(p)?;
+            }
+            let names: Vec<Value> =
+                interp.aliases.keys().map(|k| Value::from(k.as_str())).collect();
+            Ok(Value::from_list(names))
+        }
+        _ => {
+            // alias srcPath srcCmd ?targetPath targetCmd ?arg ...??
+            if args.len() < 2 {
+                return Err(Exception::wrong_args(
+                    "interp alias slavePath slaveCmd ?masterPath masterCmd? ?arg ...?",
+                ));
+            }
+            this(&args[0])?;
+            let name = args[1].as_str().trim_start_matches("::").to_string();
+            match args.len() {
+                2 => {
+                    Ok(interp.aliases.get(&name).cloned().map(Value::from_list).unwrap_or_default())
+                }
+                3 if args[2].as_str().is_empty() => {
+                    interp.aliases.remove(&name);
+                    let _ = interp.rename_command(&name, "");
+                    Ok(Value::empty())
+                }
+                3 => Err(Exception::wrong_args(
+                    "interp alias slavePath slaveCmd ?masterPath masterCmd? ?arg ...?",
+                )),
+                _ => {
+                    this(&args[2])?;
+                    let target: Vec<Value> = args[3..].to_vec();
+                    interp.aliases.insert(name.clone(), target.clone());
+                    interp.register_host(&name, "?arg ...?", "an alias", move |i, argv| {
+                        let mut words = target.clone();
+                        words.extend_from_slice(&argv[1..]);
+                        i.invoke(&words)
+                    });
+                    Ok(Value::from(name.as_str()))
+                }
+            }
+        }
+    }
 }
 
 /// `throw type message`: an error with `type` as its error code.

@@ -231,11 +231,12 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 (start..=n - needle.len()).find(|&i| hay[i..i + needle.len()] == needle[..])
             } else {
                 let last = if a.len() == 3 { parse_index(&a[2], n)? } else { n as i64 - 1 };
-                if last < 0 {
+                // The whole match must lie at or before `last`.
+                let top = last.min(n as i64 - 1) + 1 - needle.len() as i64;
+                if top < 0 {
                     None
                 } else {
-                    let top = (last as usize).min(n - needle.len());
-                    (0..=top).rev().find(|&i| hay[i..i + needle.len()] == needle[..])
+                    (0..=top as usize).rev().find(|&i| hay[i..i + needle.len()] == needle[..])
                 }
             };
             Ok(Value::from_int(found.map(|i| i as i64).unwrap_or(-1)))

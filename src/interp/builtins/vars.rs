@@ -14,6 +14,12 @@ pub(super) const COMMANDS: &[Entry] = &[
     ("incr", cmd_incr, "varName ?increment?", "add to an integer variable"),
     ("global", cmd_global, "?varName ...?", "use global variables in a procedure"),
     (
+        "variable",
+        cmd_variable,
+        "?name value...? name ?value?",
+        "a namespace variable (here the global one), linked into a procedure",
+    ),
+    (
         "upvar",
         cmd_upvar,
         "?level? otherVar localVar ?otherVar localVar ...?",
@@ -91,6 +97,23 @@ fn cmd_global(interp: &mut Interp, argv: &[Value]) -> TclResult {
         let n = name.as_str();
         let local = n.rsplit("::").next().unwrap_or(n);
         interp.link_var(0, n, local)?;
+    }
+    Ok(Value::empty())
+}
+
+/// `variable`: with only the global namespace, a global variable, linked
+/// into the procedure that declares it, and set when a value is given.
+fn cmd_variable(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_args(argv, 2, usize::MAX, "?name value...? name ?value?")?;
+    for pair in argv[1..].chunks(2) {
+        let n = pair[0].as_str();
+        let local = n.rsplit("::").next().unwrap_or(n);
+        if interp.level() > 0 {
+            interp.link_var(0, n, local)?;
+        }
+        if let Some(v) = pair.get(1) {
+            interp.set_var(if interp.level() > 0 { local } else { n }, v.clone())?;
+        }
     }
     Ok(Value::empty())
 }
