@@ -434,7 +434,7 @@ fn cmd_return(_: &mut Interp, argv: &[Value]) -> TclResult {
     while i + 1 < argv.len() {
         if argv[i].as_str() == "-options" {
             let d = argv[i + 1].as_list()?;
-            if d.len() % 2 != 0 {
+            if !d.len().is_multiple_of(2) {
                 return Err(Exception::error(format!(
                     "bad -options value: expected dictionary but got \"{}\"",
                     argv[i + 1].as_str()

@@ -2,6 +2,7 @@
 //! the usage line each one reports in `wrong # args` and in `help`.
 
 mod control;
+mod dict;
 mod lists;
 mod package;
 mod strings;
@@ -27,8 +28,14 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 5] =
-        [control::COMMANDS, vars::COMMANDS, lists::COMMANDS, strings::COMMANDS, package::COMMANDS];
+    let tables: [&[Entry]; 6] = [
+        control::COMMANDS,
+        dict::COMMANDS,
+        vars::COMMANDS,
+        lists::COMMANDS,
+        strings::COMMANDS,
+        package::COMMANDS,
+    ];
     for table in tables {
         for (name, f, usage, summary) in table {
             interp.register(name, *f, usage, summary);
