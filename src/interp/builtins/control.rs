@@ -332,24 +332,53 @@ fn cmd_continue(_: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_switch(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let usage = "switch ?-option ...? string ?pattern body ...? ?default body?";
     let mut i = 1;
-    let mut mode = "-exact";
+    let mut mode: Option<&str> = None;
     let mut nocase = false;
+    let (mut matchvar, mut indexvar) = (None, None);
     while i < argv.len() && argv[i].as_str().starts_with('-') {
         let opt = argv[i].as_str();
         i += 1;
-        match opt {
+        let name = pick_option(
+            opt,
+            &["--", "-exact", "-glob", "-indexvar", "-matchvar", "-nocase", "-regexp"],
+            "option",
+        )
+        .map_err(|_| {
+            Exception::error(format!(
+                "bad option \"{opt}\": must be -exact, -glob, -indexvar, -matchvar, -nocase, -regexp, or --"
+            ))
+        })?;
+        match name {
             "--" => break,
-            "-exact" | "-glob" => mode = if opt == "-exact" { "-exact" } else { "-glob" },
+            "-exact" | "-glob" | "-regexp" => {
+                if let Some(m) = mode {
+                    return Err(Exception::error(format!(
+                        "bad option \"{opt}\": {m} option already found"
+                    )));
+                }
+                mode = Some(name);
+            }
             "-nocase" => nocase = true,
-            "-regexp" => {
-                return Err(Exception::error("switch -regexp is not supported by rayshell"));
+            "-matchvar" | "-indexvar" => {
+                let Some(v) = argv.get(i) else {
+                    return Err(Exception::error(format!(
+                        "missing variable name argument to {name} option"
+                    )));
+                };
+                if name == "-matchvar" {
+                    matchvar = Some(v.clone());
+                } else {
+                    indexvar = Some(v.clone());
+                }
+                i += 1;
             }
-            _ => {
-                return Err(Exception::error(format!(
-                    "bad option \"{opt}\": must be -exact, -glob, -nocase, or --"
-                )));
-            }
+            _ => unreachable!("listed above"),
         }
+    }
+    let mode = mode.unwrap_or("-exact");
+    if (matchvar.is_some() || indexvar.is_some()) && mode != "-regexp" {
+        let which = if indexvar.is_some() { "-indexvar" } else { "-matchvar" };
+        return Err(Exception::error(format!("{which} option requires -regexp option")));
     }
     if i >= argv.len() {
         return Err(Exception::wrong_args(usage));
@@ -368,11 +397,46 @@ fn cmd_switch(interp: &mut Interp, argv: &[Value]) -> TclResult {
     for (k, pair) in pairs.chunks(2).enumerate() {
         let pat = pair[0].as_str();
         let is_last = k == pairs.len() / 2 - 1;
-        let hit = (is_last && pat == "default")
-            || match mode {
+        let hit = if is_last && pat == "default" {
+            true
+        } else {
+            match mode {
                 "-glob" => glob_match(pat, &subject, nocase),
+                "-regexp" => {
+                    let flags = super::regexp::Flags { nocase, ..Default::default() };
+                    let re = super::regexp::compile(pat, flags)?;
+                    match re.captures(&subject).map_err(|e| Exception::error(e.to_string()))? {
+                        Some(caps) => {
+                            let span = |g: usize| caps.get(g).map(|m| (m.start(), m.end()));
+                            if let Some(v) = &matchvar {
+                                let words = (0..caps.len())
+                                    .map(|g| {
+                                        Value::from(span(g).map_or("", |(a, b)| &subject[a..b]))
+                                    })
+                                    .collect();
+                                interp.set_var(v.as_str(), Value::from_list(words))?;
+                            }
+                            if let Some(v) = &indexvar {
+                                let at = |b: usize| subject[..b].chars().count() as i64;
+                                let words = (0..caps.len())
+                                    .map(|g| match span(g) {
+                                        Some((a, b)) => Value::from_list(vec![
+                                            Value::from_int(at(a)),
+                                            Value::from_int(at(b) - 1),
+                                        ]),
+                                        None => Value::from("-1 -1"),
+                                    })
+                                    .collect();
+                                interp.set_var(v.as_str(), Value::from_list(words))?;
+                            }
+                            true
+                        }
+                        None => false,
+                    }
+                }
                 _ => fold(pat) == fold(&subject),
-            };
+            }
+        };
         if hit {
             // Fall through bodies that are "-".
             for body in pairs[k * 2..].chunks(2).map(|p| &p[1]) {

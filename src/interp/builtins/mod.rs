@@ -5,6 +5,7 @@ mod control;
 mod dict;
 mod lists;
 mod package;
+pub(crate) mod regexp;
 mod strings;
 mod vars;
 
@@ -28,13 +29,14 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 6] = [
+    let tables: [&[Entry]; 7] = [
         control::COMMANDS,
         dict::COMMANDS,
         vars::COMMANDS,
         lists::COMMANDS,
         strings::COMMANDS,
         package::COMMANDS,
+        regexp::COMMANDS,
     ];
     for table in tables {
         for (name, f, usage, summary) in table {
