@@ -101,6 +101,8 @@ pub struct Proc {
     pub(crate) arg_spec: Value,
     /// For `apply`: the lambda term (named in usage and traces).
     pub(crate) lambda: Option<Value>,
+    /// The namespace it runs in.
+    pub(crate) ns: Rc<str>,
 }
 
 /// What the interpreter needs from the outside world.
@@ -122,6 +124,8 @@ pub(crate) enum Var {
 pub(crate) type VarCell = Rc<RefCell<Var>>;
 
 pub(crate) struct Frame {
+    /// The namespace code in this frame runs in.
+    pub(crate) ns: Rc<str>,
     pub(crate) vars: FxHashMap<Rc<str>, VarCell>,
     pub(crate) level: usize,
     /// Index of the frame whose variables the caller saw (for `upvar 1`).
@@ -157,6 +161,14 @@ pub struct Interp {
     pub(crate) script_file: Option<Rc<str>>,
     help: BTreeMap<String, (String, String)>,
     pub(crate) packages: super::builtins::Packages,
+    /// The current namespace, qualified without the leading `::` (empty:
+    /// the global one), and the namespaces that exist besides it.
+    pub(crate) ns: Rc<str>,
+    pub(crate) namespaces: std::collections::BTreeSet<String>,
+    /// The commands `namespace ensemble create` made.
+    ensembles: std::collections::BTreeSet<String>,
+    /// `namespace export`: each namespace's patterns.
+    pub(crate) exports: BTreeMap<String, Vec<String>>,
     /// What `info nameofexecutable` says (the host sets it).
     pub executable: String,
     /// `interp alias`: each alias's target words.
@@ -191,6 +203,7 @@ impl Interp {
             commands: FxHashMap::default(),
             cmd_epoch: 0,
             frames: vec![Frame {
+                ns: Rc::from(""),
                 vars: FxHashMap::default(),
                 level: 0,
                 caller: 0,
@@ -208,6 +221,10 @@ impl Interp {
             script_file: None,
             help: BTreeMap::new(),
             packages: Default::default(),
+            ns: Rc::from(""),
+            namespaces: Default::default(),
+            ensembles: Default::default(),
+            exports: BTreeMap::new(),
             executable: String::new(),
             aliases: BTreeMap::new(),
         };
@@ -268,7 +285,83 @@ impl Interp {
     }
 
     pub fn has_command(&self, name: &str) -> bool {
-        self.commands.contains_key(name)
+        self.resolve_command(name).is_some()
+    }
+
+    /// The command a name means here: `::a::b` absolutely; otherwise in
+    /// the current namespace first, then the global one.
+    pub(crate) fn resolve_command(&self, name: &str) -> Option<&CommandKind> {
+        if let Some(abs) = name.strip_prefix("::") {
+            return self.commands.get(abs);
+        }
+        if !self.ns.is_empty()
+            && let Some(c) = self.commands.get(&format!("{}::{name}", self.ns))
+        {
+            return Some(c);
+        }
+        self.commands.get(name)
+    }
+
+    /// The table key of the command a name means here.
+    pub(crate) fn command_key(&self, name: &str) -> Option<String> {
+        if let Some(abs) = name.strip_prefix("::") {
+            return self.commands.contains_key(abs).then(|| abs.to_string());
+        }
+        if !self.ns.is_empty() {
+            let k = format!("{}::{name}", self.ns);
+            if self.commands.contains_key(&k) {
+                return Some(k);
+            }
+        }
+        self.commands.contains_key(name).then(|| name.to_string())
+    }
+
+    pub(crate) fn has_exact_command(&self, key: &str) -> bool {
+        self.commands.contains_key(key)
+    }
+
+    /// `namespace import`: the command under a second name.
+    pub(crate) fn copy_command(&mut self, from: &str, to: &str) {
+        if let Some(c) = self.commands.get(from).cloned() {
+            self.set_command(to.to_string(), c);
+        }
+    }
+
+    /// `namespace delete`: the commands and variables under a prefix.
+    pub(crate) fn forget_prefix(&mut self, prefix: &str) {
+        self.cmd_epoch += 1;
+        self.commands.retain(|k, _| !k.starts_with(prefix));
+        self.frames[0].vars.retain(|k, _| !k.starts_with(prefix));
+    }
+
+    pub(crate) fn mark_ensemble(&mut self, key: &str) {
+        self.ensembles.insert(key.to_string());
+    }
+
+    pub(crate) fn is_ensemble(&self, name: &str) -> bool {
+        self.command_key(name).is_some_and(|k| self.ensembles.contains(&k))
+    }
+
+    /// A variable's qualified name (without the leading `::`) as
+    /// `namespace which -variable` gives it.
+    pub(crate) fn qualify_var(&self, name: &str) -> String {
+        let (frame, key, fallback) = self.var_place(name);
+        if frame == 0
+            && !self.frames[0].vars.contains_key(&*key)
+            && let Some(f) = fallback
+        {
+            return f.to_string();
+        }
+        key.into_owned()
+    }
+
+    /// The table key a command defined under `name` gets here.
+    pub(crate) fn qualify_command(&self, name: &str) -> String {
+        match name.strip_prefix("::") {
+            Some(abs) => abs.to_string(),
+            None if self.ns.is_empty() => name.to_string(),
+            None => format!("{}::{name}", self.ns),
+        }
     }
 
     pub fn command_names(&self) -> Vec<String> {
@@ -512,12 +605,7 @@ impl Interp {
 
     /// Calls a command with its words already substituted.
     pub fn invoke(&mut self, argv: &[Value]) -> TclResult {
-        let name = argv[0].as_str();
-        // `::name` is the global command `name`.
-        let found = self
-            .commands
-            .get(name)
-            .or_else(|| name.strip_prefix("::").and_then(|n| self.commands.get(n)));
+        let found = self.resolve_command(argv[0].as_str());
         let cmd = match found {
             Some(c) => c.clone(),
             None => {
@@ -583,10 +671,18 @@ impl Interp {
             return Err(proc_usage(p, &argv[0]));
         }
         let level = self.frames[self.cur].level + 1;
-        self.frames.push(Frame { vars, level, caller: self.cur, objv: argv.to_vec() });
+        self.frames.push(Frame {
+            ns: p.ns.clone(),
+            vars,
+            level,
+            caller: self.cur,
+            objv: argv.to_vec(),
+        });
         let saved = self.cur;
         self.cur = self.frames.len() - 1;
+        let saved_ns = std::mem::replace(&mut self.ns, p.ns.clone());
         let r = self.eval(&p.body);
+        self.ns = saved_ns;
         self.frames.pop();
         self.cur = saved;
         match r {
@@ -644,19 +740,40 @@ impl Interp {
 
     // -- Variables --------------------------------------------------------------
 
-    fn frame_for(&self, name: &str) -> (usize, String) {
-        match name.strip_prefix("::") {
-            Some(rest) => (0, rest.to_string()),
-            None => (self.cur, name.to_string()),
+    /// Where a variable name lives: its frame and key there, and for a
+    /// name relative to the current namespace the global key to fall back
+    /// to when reading. Namespace variables live in the global frame under
+    /// their qualified names (`ns::x`, without the leading `::`).
+    fn var_place<'a>(&self, name: &'a str) -> (usize, std::borrow::Cow<'a, str>, Option<&'a str>) {
+        use std::borrow::Cow;
+        if let Some(rest) = name.strip_prefix("::") {
+            return (0, Cow::Borrowed(rest.trim_start_matches(':')), None);
         }
+        let in_ns_frame = self.cur == 0 && !self.ns.is_empty();
+        if !name.contains("::") && !in_ns_frame {
+            return (self.cur, Cow::Borrowed(name), None);
+        }
+        if self.ns.is_empty() {
+            return (0, Cow::Borrowed(name), None);
+        }
+        if name.contains("::") || in_ns_frame {
+            return (0, Cow::Owned(format!("{}::{name}", self.ns)), Some(name));
+        }
+        (self.cur, Cow::Borrowed(name), None)
+    }
+
+    fn frame_for(&self, name: &str) -> (usize, String) {
+        let (frame, key, _) = self.var_place(name);
+        (frame, key.into_owned())
     }
 
     pub(crate) fn find_var(&self, name: &str) -> Option<VarCell> {
-        let (frame, local) = match name.strip_prefix("::") {
-            Some(rest) => (0, rest),
-            None => (self.cur, name),
-        };
-        self.frames[frame].vars.get(local).cloned()
+        let (frame, key, fallback) = self.var_place(name);
+        self.frames[frame]
+            .vars
+            .get(&*key)
+            .or_else(|| fallback.and_then(|f| self.frames[0].vars.get(f)))
+            .cloned()
     }
 
     pub(crate) fn var_cell(&mut self, name: &str) -> VarCell {
@@ -899,7 +1016,10 @@ impl Interp {
     ) -> TclResult {
         let saved = self.cur;
         self.cur = frame;
+        // Code runs in the namespace of the frame it runs in (`uplevel`).
+        let ns = std::mem::replace(&mut self.ns, self.frames[frame].ns.clone());
         let r = f(self);
+        self.ns = ns;
         self.cur = saved;
         r
     }

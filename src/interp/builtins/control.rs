@@ -257,6 +257,10 @@ fn cmd_apply(interp: &mut Interp, argv: &[Value]) -> TclResult {
         body: parts[1].clone(),
         arg_spec: parts[0].clone(),
         lambda: Some(lambda.clone()),
+        ns: match parts.get(2) {
+            Some(n) => Rc::from(n.as_str().trim_start_matches(':')),
+            None => Rc::from(""),
+        },
     };
     interp.call_lambda(&p, argv)
 }
@@ -456,8 +460,18 @@ fn cmd_switch(interp: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_proc(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 4, 4, "name args body")?;
     let (params, variadic) = parse_params(&argv[2])?;
-    let name = argv[1].as_str();
-    let name = name.strip_prefix("::").unwrap_or(name).to_string();
+    let name = interp.qualify_command(argv[1].as_str());
+    if let Some((ns, _)) = name.rsplit_once("::")
+        && !ns.is_empty()
+        && !interp.namespaces.contains(ns)
+    {
+        return Err(Exception::error(format!(
+            "can't create procedure \"{}\": unknown namespace",
+            argv[1].as_str()
+        )));
+    }
+    // It runs in the namespace its name is in.
+    let ns: Rc<str> = Rc::from(name.rsplit_once("::").map_or("", |(n, _)| n));
     interp.define_proc(Proc {
         name,
         params,
@@ -465,6 +479,7 @@ fn cmd_proc(interp: &mut Interp, argv: &[Value]) -> TclResult {
         body: argv[3].clone(),
         arg_spec: argv[2].clone(),
         lambda: None,
+        ns,
     });
     Ok(Value::empty())
 }

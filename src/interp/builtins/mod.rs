@@ -4,6 +4,7 @@
 mod control;
 mod dict;
 mod lists;
+mod namespace;
 mod package;
 pub(crate) mod regexp;
 mod strings;
@@ -29,7 +30,7 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 7] = [
+    let tables: [&[Entry]; 8] = [
         control::COMMANDS,
         dict::COMMANDS,
         vars::COMMANDS,
@@ -37,6 +38,7 @@ pub(crate) fn register_all(interp: &mut Interp) {
         strings::COMMANDS,
         package::COMMANDS,
         regexp::COMMANDS,
+        namespace::COMMANDS,
     ];
     for table in tables {
         for (name, f, usage, summary) in table {

@@ -109,7 +109,13 @@ fn cmd_variable(interp: &mut Interp, argv: &[Value]) -> TclResult {
         let n = pair[0].as_str();
         let local = n.rsplit("::").next().unwrap_or(n);
         if interp.level() > 0 {
-            interp.link_var(0, n, local)?;
+            // The variable of the procedure's namespace.
+            let full = match n.strip_prefix("::") {
+                Some(_) => n.to_string(),
+                None if interp.ns.is_empty() => format!("::{n}"),
+                None => format!("::{}::{n}", interp.ns),
+            };
+            interp.link_var(0, &full, local)?;
         }
         if let Some(v) = pair.get(1) {
             interp.set_var(if interp.level() > 0 { local } else { n }, v.clone())?;
