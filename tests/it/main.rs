@@ -144,6 +144,7 @@ fn main() {
         lang::scripts_match_tclsh,
         lang::errors_name_file_and_line,
         lang::streaming_windows_are_invisible,
+        lang::tcl_test_suite_agreement_holds,
         mesh::mesh_is_placed_and_lit,
         mesh::smooth_normals_are_computed_when_missing,
         mesh::bad_obj_files_are_located_errors,
