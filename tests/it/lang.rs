@@ -141,7 +141,7 @@ fn tcl_test_files() -> Option<std::path::PathBuf> {
 }
 
 /// Tcl's own test suite, case by case against tclsh (`scripts/tcltests`):
-/// the agreement must not fall below what it reached (55.0% of 7,379 cases
+/// the agreement must not fall below what it reached (55.8% of 7,379 cases
 /// on 2026-12-01), nor the files that are nearly done below their marks.
 pub fn tcl_test_suite_agreement_holds() {
     if !tclsh_available() {
@@ -211,8 +211,10 @@ pub fn tcl_test_suite_agreement_holds() {
     };
     let (cases, agree) = row("**all**");
     assert!(cases > 7000.0, "the suite shrank:\n{table}");
-    assert!(agree / cases >= 0.54, "agreement fell to {agree} of {cases}:\n{table}");
-    for (name, share) in [("dict", 0.9), ("regexp", 0.85), ("lreplace", 1.0), ("list", 1.0)] {
+    assert!(agree / cases >= 0.55, "agreement fell to {agree} of {cases}:\n{table}");
+    let marks =
+        [("dict", 0.9), ("regexp", 0.85), ("lreplace", 1.0), ("list", 1.0), ("lsearch", 0.95)];
+    for (name, share) in marks {
         let (n, a) = row(name);
         assert!(a / n >= share, "{name}: {a} of {n}:\n{table}");
     }

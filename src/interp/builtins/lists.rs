@@ -290,15 +290,34 @@ fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_lsearch(_: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 3, usize::MAX, "?-option value ...? list pattern")?;
     let mut mode = "-glob";
+    let mut kind = "-ascii";
     let (mut all, mut inline, mut not, mut nocase) = (false, false, false, false);
-    let mut start = 0i64;
+    let (mut sorted, mut bisect, mut decreasing, mut subindices) = (false, false, false, false);
+    let mut start: Option<Value> = None;
+    let mut index: Option<Vec<Value>> = None;
     let mut i = 1;
     while i < argv.len() - 2 {
         let opt = pick_option(
             argv[i].as_str(),
             &[
-                "-all", "-ascii", "-exact", "-glob", "-inline", "-integer", "-nocase", "-not",
-                "-real", "-sorted", "-start",
+                "-all",
+                "-ascii",
+                "-bisect",
+                "-decreasing",
+                "-dictionary",
+                "-exact",
+                "-glob",
+                "-increasing",
+                "-index",
+                "-inline",
+                "-integer",
+                "-nocase",
+                "-not",
+                "-real",
+                "-regexp",
+                "-sorted",
+                "-start",
+                "-subindices",
             ],
             "option",
         )?;
@@ -307,32 +326,146 @@ fn cmd_lsearch(_: &mut Interp, argv: &[Value]) -> TclResult {
             "-inline" => inline = true,
             "-not" => not = true,
             "-nocase" => nocase = true,
-            "-exact" | "-glob" | "-integer" | "-real" => mode = opt,
-            "-sorted" => mode = if mode == "-glob" { "-exact" } else { mode },
-            "-start" => {
+            "-exact" | "-glob" | "-regexp" => mode = opt,
+            "-ascii" | "-dictionary" | "-integer" | "-real" => kind = opt,
+            "-sorted" => sorted = true,
+            "-bisect" => {
+                bisect = true;
+                sorted = true;
+            }
+            "-decreasing" => decreasing = true,
+            "-increasing" => decreasing = false,
+            "-subindices" => subindices = true,
+            "-start" | "-index" => {
                 i += 1;
                 if i >= argv.len() - 2 {
-                    return Err(Exception::error("missing starting index"));
+                    return Err(Exception::error(if opt == "-start" {
+                        "missing starting index"
+                    } else {
+                        "\"-index\" option must be followed by list index"
+                    }));
                 }
-                start = argv[i].as_int()?.max(0);
+                if opt == "-start" {
+                    start = Some(argv[i].clone());
+                } else {
+                    let idx = argv[i].as_list()?.to_vec();
+                    // An index no list has an element at is refused now.
+                    const HUGE: usize = 1 << 40;
+                    for k in &idx {
+                        let n = parse_index(k, HUGE)?;
+                        if n < 0 || n >= HUGE as i64 {
+                            return Err(Exception::error(format!(
+                                "index \"{}\" cannot select an element from any list",
+                                k.as_str()
+                            )));
+                        }
+                    }
+                    index = Some(idx);
+                }
             }
             _ => {}
         }
         i += 1;
     }
+    if subindices && index.is_none() {
+        return Err(Exception::error("-subindices cannot be used without -index option"));
+    }
+    if bisect && (all || not) {
+        return Err(Exception::error("-bisect is not compatible with -all or -not"));
+    }
+    // -sorted searches for an exact match (the comparison modes matter
+    // only then, and with -exact).
+    if sorted && mode == "-glob" {
+        mode = "-exact";
+    }
     let items = argv[argv.len() - 2].as_list()?;
     let pattern = &argv[argv.len() - 1];
+    let first = match &start {
+        Some(s) => parse_index(s, items.len())?.max(0) as usize,
+        None => 0,
+    };
+    let re = if mode == "-regexp" {
+        let flags = super::regexp::Flags { nocase, ..Default::default() };
+        Some(super::regexp::compile(pattern.as_str(), flags)?)
+    } else {
+        None
+    };
+    // The part of an element compared (-index), and the path to it.
+    let key_path = |it: &Value| -> Result<(Value, Vec<Value>), Exception> {
+        match &index {
+            None => Ok((it.clone(), Vec::new())),
+            Some(idx) => {
+                let mut cur = it.clone();
+                let mut path = Vec::new();
+                for k in idx {
+                    let l = cur.as_list()?;
+                    let n = parse_index(k, l.len())?;
+                    if n < 0 || n as usize >= l.len() {
+                        return Err(Exception::error(format!(
+                            "element {} missing from sublist \"{}\"",
+                            k.as_str(),
+                            cur.as_str()
+                        )));
+                    }
+                    cur = l[n as usize].clone();
+                    path.push(Value::from_int(n));
+                }
+                Ok((cur, path))
+            }
+        }
+    };
+    let key = |it: &Value| key_path(it).map(|(v, _)| v);
+    let order = |a: &Value| -> Result<Ordering, Exception> {
+        let o = match kind {
+            "-integer" => a.as_int()?.cmp(&pattern.as_int()?),
+            "-real" => a.as_f64()?.partial_cmp(&pattern.as_f64()?).unwrap_or(Ordering::Equal),
+            "-dictionary" => dictionary_cmp(a.as_str(), pattern.as_str()),
+            _ if nocase => a.as_str().to_lowercase().cmp(&pattern.as_str().to_lowercase()),
+            _ => a.as_str().cmp(pattern.as_str()),
+        };
+        Ok(if decreasing { o.reverse() } else { o })
+    };
+    if bisect {
+        // The last element at or before the pattern in the list's order.
+        let mut found = -1i64;
+        for (k, it) in items.iter().enumerate().skip(first) {
+            if order(&key(it)?)? == Ordering::Greater {
+                break;
+            }
+            found = k as i64;
+        }
+        return Ok(if inline {
+            if found < 0 { Value::empty() } else { items[found as usize].clone() }
+        } else {
+            Value::from_int(found)
+        });
+    }
     let mut hits = Vec::new();
-    for (k, it) in items.iter().enumerate().skip(start as usize) {
+    for (k, it) in items.iter().enumerate().skip(first) {
+        let (v, path) = key_path(it)?;
         let m = match mode {
-            "-exact" if nocase => it.as_str().to_lowercase() == pattern.as_str().to_lowercase(),
-            "-exact" => it.as_str() == pattern.as_str(),
-            "-integer" => it.as_int().ok() == Some(pattern.as_int()?),
-            "-real" => it.as_f64().ok() == Some(pattern.as_f64()?),
-            _ => glob_match(pattern.as_str(), it.as_str(), nocase),
+            "-exact" => match kind {
+                "-integer" | "-real" => order(&v)? == Ordering::Equal,
+                _ if nocase => v.as_str().to_lowercase() == pattern.as_str().to_lowercase(),
+                _ => v.as_str() == pattern.as_str(),
+            },
+            "-regexp" => re
+                .as_ref()
+                .expect("compiled above")
+                .is_match(v.as_str())
+                .map_err(|e| Exception::error(e.to_string()))?,
+            _ => glob_match(pattern.as_str(), v.as_str(), nocase),
         };
         if m != not {
-            hits.push(if inline { it.clone() } else { Value::from_int(k as i64) });
+            hits.push(match (inline, subindices) {
+                (true, _) => it.clone(),
+                (false, true) => {
+                    let mut full = vec![Value::from_int(k as i64)];
+                    full.extend(path);
+                    Value::from_list(full)
+                }
+                (false, false) => Value::from_int(k as i64),
+            });
             if !all {
                 break;
             }
