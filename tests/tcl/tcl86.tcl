@@ -81,3 +81,9 @@ catch {package require nosuchpkg} e; puts $e
 catch {package require Tcl 9} e; puts $e
 puts [::list a b]
 puts [info commands ::lmap]
+# string is -failindex and -strict
+foreach {c s} [list integer 12a3 double 1.5x alpha ab1 boolean xyz integer "" digit 12 integer " 12 " double 1e5q] {
+  set r [string is $c -failindex f $s]; puts "$c '$s' $r [expr {[info exists f] ? $f : "-"}]"; unset -nocomplain f
+}
+catch {string is integer -foo x} e; puts $e
+puts [string is integer -strict -failindex g ""]; puts $g

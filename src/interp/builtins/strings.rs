@@ -309,7 +309,7 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
             check_len(a.iter().map(|v| v.as_str().len()).sum())?;
             Ok(Value::from_string(a.iter().map(|v| v.as_str()).collect()))
         }
-        "is" => string_is(a),
+        "is" => string_is(interp, a),
         "bytelength" => {
             if a.len() != 1 {
                 return Err(usage("string"));
@@ -352,7 +352,7 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
     }
 }
 
-fn string_is(a: &[Value]) -> TclResult {
+fn string_is(interp: &mut Interp, a: &[Value]) -> TclResult {
     const CLASSES: &[&str] = &[
         "alnum",
         "alpha",
@@ -380,35 +380,90 @@ fn string_is(a: &[Value]) -> TclResult {
         return Err(Exception::wrong_args("string is class ?-strict? ?-failindex var? str"));
     }
     let class = pick_option(a[0].as_str(), CLASSES, "class")?;
-    let strict = a[1..a.len() - 1].iter().any(|o| o.as_str() == "-strict");
+    let (mut strict, mut fail_var) = (false, None);
+    let mut i = 1;
+    while i < a.len() - 1 {
+        match pick_option(a[i].as_str(), &["-failindex", "-strict"], "option") {
+            Ok("-strict") => strict = true,
+            Ok(_) if i + 1 < a.len() - 1 => {
+                fail_var = Some(a[i + 1].clone());
+                i += 1;
+            }
+            _ => {
+                return Err(Exception::error(format!(
+                    "bad option \"{}\": must be -strict or -failindex",
+                    a[i].as_str()
+                )));
+            }
+        }
+        i += 1;
+    }
     let v = &a[a.len() - 1];
     let s = v.as_str();
+    // Where the string stops being of the class (for -failindex).
+    let fail_at = |at: usize, interp: &mut Interp| -> TclResult {
+        if let Some(var) = &fail_var {
+            interp.set_var(var.as_str(), Value::from_int(at as i64))?;
+        }
+        Ok(Value::from_bool(false))
+    };
     if s.is_empty() {
-        return Ok(Value::from_bool(!strict || class == "list"));
+        if strict && class != "list" {
+            return fail_at(0, interp);
+        }
+        return Ok(Value::from_bool(true));
     }
-    let all = |f: fn(char) -> bool| s.chars().all(f);
+    // The character classes fail at their first character outside.
+    let char_class: Option<fn(char) -> bool> = match class {
+        "alnum" => Some(char::is_alphanumeric),
+        "alpha" => Some(char::is_alphabetic),
+        "ascii" => Some(|c: char| c.is_ascii()),
+        "control" => Some(char::is_control),
+        "digit" => Some(|c: char| c.is_ascii_digit()),
+        "graph" => Some(|c: char| !c.is_whitespace() && !c.is_control()),
+        "print" => Some(|c: char| !c.is_control()),
+        "punct" => Some(|c: char| c.is_ascii_punctuation()),
+        "lower" => Some(char::is_lowercase),
+        "upper" => Some(char::is_uppercase),
+        "space" => Some(char::is_whitespace),
+        "wordchar" => Some(|c: char| c.is_alphanumeric() || c == '_'),
+        "xdigit" => Some(|c: char| c.is_ascii_hexdigit()),
+        _ => None,
+    };
+    if let Some(f) = char_class {
+        return match s.chars().position(|c| !f(c)) {
+            Some(at) => fail_at(at, interp),
+            None => Ok(Value::from_bool(true)),
+        };
+    }
     let r = match class {
-        "alnum" => all(char::is_alphanumeric),
-        "alpha" => all(char::is_alphabetic),
-        "ascii" => s.is_ascii(),
         "boolean" => number::parse_bool(s).is_some() || matches!(number::parse_int(s), Some(0 | 1)),
         "true" => number::parse_bool(s) == Some(true) || number::parse_int(s) == Some(1),
         "false" => number::parse_bool(s) == Some(false) || number::parse_int(s) == Some(0),
-        "control" => all(char::is_control),
-        "digit" => all(|c| c.is_ascii_digit()),
         "double" => number::parse_double(s).is_some(),
         "integer" | "wideinteger" | "entier" => number::parse_int(s).is_some(),
-        "graph" => all(|c| !c.is_whitespace() && !c.is_control()),
-        "print" => all(|c| !c.is_control()),
-        "punct" => all(|c| c.is_ascii_punctuation()),
-        "list" => v.as_list().is_ok(),
-        "lower" => all(char::is_lowercase),
-        "upper" => all(char::is_uppercase),
-        "space" => all(char::is_whitespace),
-        "wordchar" => all(|c| c.is_alphanumeric() || c == '_'),
-        _ => all(|c| c.is_ascii_hexdigit()),
+        _ => v.as_list().is_ok(),
     };
-    Ok(Value::from_bool(r))
+    if r {
+        return Ok(Value::from_bool(true));
+    }
+    // A number fails where its longest readable prefix ends.
+    let at = match class {
+        "integer" | "wideinteger" | "entier" | "double" => {
+            let ok = |p: &str| {
+                if class == "double" {
+                    number::parse_double(p).is_some()
+                } else {
+                    number::parse_int(p).is_some()
+                }
+            };
+            let ends: Vec<usize> =
+                s.char_indices().map(|(b, _)| b).skip(1).chain([s.len()]).collect();
+            ends.iter().rev().find(|&&e| ok(&s[..e])).map_or(0, |&e| s[..e].chars().count())
+        }
+        _ => 0,
+    };
+    fail_at(at, interp)
 }
 
 fn cmd_format(_: &mut Interp, argv: &[Value]) -> TclResult {
