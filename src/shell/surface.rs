@@ -16,6 +16,18 @@ fn numbers(argv: &[Value], from: usize, what: &str) -> Result<Vec<f32>, Exceptio
     argv[from..].iter().map(|v| finite_arg(v, what).map(|x| x as f32)).collect()
 }
 
+/// Words 1..4 as a radiance (`what` names it): finite, not negative.
+fn radiance(argv: &[Value], what: &str) -> Result<Vec3, Exception> {
+    let n = numbers(argv, 1, what)?;
+    if n.iter().any(|x| *x < 0.0) {
+        return Err(Exception::error(format!(
+            "{what} must not be negative, got {} {} {}",
+            n[0], n[1], n[2]
+        )));
+    }
+    Ok(Vec3::new(n[0], n[1], n[2]))
+}
+
 /// `texture image FILE MAPPING ?-once?`: reads the file into the scene's
 /// images and returns the texture.
 fn image_texture(scene: &Shared, argv: &[Value]) -> Result<Texture, Exception> {
@@ -151,15 +163,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
         "the radiance the objects that follow emit (from their front side)",
         move |_, argv| {
             check_args(argv, 4, 4, "r g b")?;
-            let n = numbers(argv, 1, "emission")?;
-            let c = Vec3::new(n[0], n[1], n[2]);
-            if c.min_element() < 0.0 {
-                return Err(Exception::error(format!(
-                    "emission must not be negative, got {} {} {}",
-                    n[0], n[1], n[2]
-                )));
-            }
-            edit(&s).look.emission = c;
+            edit(&s).look.emission = radiance(argv, "emission")?;
             Ok(Value::empty())
         },
     );
@@ -172,17 +176,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
         move |_, argv| {
             check_args(argv, 2, 4, usage)?;
             let sky = match argv.len() {
-                4 => {
-                    let n = numbers(argv, 1, "environment")?;
-                    let c = Vec3::new(n[0], n[1], n[2]);
-                    if c.min_element() < 0.0 {
-                        return Err(Exception::error(format!(
-                            "environment radiance must not be negative, got {} {} {}",
-                            n[0], n[1], n[2]
-                        )));
-                    }
-                    Some(Sky::constant(c))
-                }
+                4 => Some(Sky::constant(radiance(argv, "environment radiance")?)),
                 _ if argv[1].as_str() == "none" && argv.len() == 2 => None,
                 _ => {
                     let scale = match argv.get(2) {

@@ -125,23 +125,8 @@ fn body_frame(mut e: Exception, what: &str) -> Exception {
 
 fn cmd_dict(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;
-    let given = argv[1].as_str();
-    let sub = match SUBCOMMANDS.iter().find(|s| **s == given) {
-        Some(s) => *s,
-        None => {
-            let m: Vec<&&str> = SUBCOMMANDS.iter().filter(|s| s.starts_with(given)).collect();
-            if m.len() == 1 && !given.is_empty() {
-                m[0]
-            } else {
-                let n = SUBCOMMANDS.len();
-                return Err(Exception::error(format!(
-                    "unknown or ambiguous subcommand \"{given}\": must be {}, or {}",
-                    SUBCOMMANDS[..n - 1].join(", "),
-                    SUBCOMMANDS[n - 1]
-                )));
-            }
-        }
-    };
+    let sub = super::pick_subcommand(argv[1].as_str(), SUBCOMMANDS)?;
+
     let a = &argv[2..];
     let usage = |u: &str| Exception::wrong_args(&format!("dict {sub} {u}"));
     match sub {

@@ -197,6 +197,19 @@ pub(crate) fn pick_option<'a>(
     Err(Exception::error(format!("{kind} {what} \"{given}\": must be {list}")))
 }
 
+/// An ensemble's subcommand by a unique prefix, refused with Tcl's
+/// `unknown or ambiguous subcommand "x": must be ...` listing them all.
+pub(crate) fn pick_subcommand<'a>(given: &str, subs: &[&'a str]) -> Result<&'a str, Exception> {
+    pick_option(given, subs, "subcommand").map_err(|_| {
+        let n = subs.len();
+        Exception::error(format!(
+            "unknown or ambiguous subcommand \"{given}\": must be {}, or {}",
+            subs[..n - 1].join(", "),
+            subs[n - 1]
+        ))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

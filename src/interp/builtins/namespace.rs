@@ -84,15 +84,8 @@ fn within(interp: &mut Interp, ns: &str, f: impl FnOnce(&mut Interp) -> TclResul
 
 fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;
-    let sub = super::pick_option(argv[1].as_str(), SUBCOMMANDS, "option").map_err(|_| {
-        let n = SUBCOMMANDS.len();
-        Exception::error(format!(
-            "unknown or ambiguous subcommand \"{}\": must be {}, or {}",
-            argv[1].as_str(),
-            SUBCOMMANDS[..n - 1].join(", "),
-            SUBCOMMANDS[n - 1]
-        ))
-    })?;
+    let sub = super::pick_subcommand(argv[1].as_str(), SUBCOMMANDS)?;
+
     let a = &argv[2..];
     let usage = |u: &str| Exception::wrong_args(&format!("namespace {sub} {u}"));
     match sub {

@@ -191,12 +191,17 @@ fn byte_offset(s: &str, i: usize) -> usize {
     s.char_indices().nth(i).map_or(s.len(), |(b, _)| b)
 }
 
-/// The switches both commands share; returns the index of the pattern.
+/// The switches of both commands: those that shape the pattern and
+/// `-start` are handled here, the command's own by `own` (which says
+/// whether it knew the name). Returns the index of the pattern, the
+/// pattern's flags, and the byte offset to start from in `text_at`'s word.
 fn switches(
     argv: &[Value],
     names: &[&'static str],
-    mut on: impl FnMut(&'static str, Option<&Value>) -> Result<bool, Exception>,
-) -> Result<usize, Exception> {
+    text_at: usize,
+    mut own: impl FnMut(&'static str),
+) -> Result<(usize, Flags, usize), Exception> {
+    let (mut flags, mut start) = (Flags::default(), None);
     let mut i = 1;
     while i < argv.len() {
         let w = argv[i].as_str();
@@ -210,19 +215,40 @@ fn switches(
         let name = pick_option(w, names, "option").map_err(|_| {
             Exception::error(format!("bad option \"{w}\": must be {}, or --", names.join(", ")))
         })?;
-        // `-start` takes a value.
-        if on(name, argv.get(i + 1))? {
-            i += 1;
+        match name {
+            "-nocase" => flags.nocase = true,
+            "-expanded" => flags.expanded = true,
+            "-line" => {
+                flags.linestop = true;
+                flags.lineanchor = true;
+            }
+            "-linestop" => flags.linestop = true,
+            "-lineanchor" => flags.lineanchor = true,
+            "-start" => {
+                i += 1;
+                let v = argv
+                    .get(i)
+                    .ok_or_else(|| Exception::error("missing argument to \"-start\""))?;
+                start = Some(v.clone());
+            }
+            other => own(other),
         }
         i += 1;
     }
-    Ok(i)
+    let from = match (&start, argv.get(i + text_at)) {
+        (Some(s), Some(text)) => {
+            let text = text.as_str();
+            let n = text.chars().count();
+            byte_offset(text, parse_index(s, n)?.clamp(0, n as i64) as usize)
+        }
+        _ => 0,
+    };
+    Ok((i, flags, from))
 }
 
 fn cmd_regexp(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let usage = "?-option ...? exp string ?matchVar? ?subMatchVar ...?";
-    let (mut flags, mut all, mut inline, mut indices, mut start) =
-        (Flags::default(), false, false, false, None);
+    let (mut all, mut inline, mut indices) = (false, false, false);
     let names = [
         "-all",
         "-about",
@@ -235,30 +261,11 @@ fn cmd_regexp(interp: &mut Interp, argv: &[Value]) -> TclResult {
         "-nocase",
         "-start",
     ];
-    let i = switches(argv, &names, |name, value| {
-        match name {
-            "-all" => all = true,
-            "-inline" => inline = true,
-            "-indices" => indices = true,
-            "-nocase" => flags.nocase = true,
-            "-expanded" => flags.expanded = true,
-            "-line" => {
-                flags.linestop = true;
-                flags.lineanchor = true;
-            }
-            "-linestop" => flags.linestop = true,
-            "-lineanchor" => flags.lineanchor = true,
-            "-start" => {
-                start = Some(
-                    value
-                        .cloned()
-                        .ok_or_else(|| Exception::error("missing argument to \"-start\""))?,
-                );
-                return Ok(true);
-            }
-            _ => {}
-        }
-        Ok(false)
+    let (i, flags, mut from) = switches(argv, &names, 1, |name| match name {
+        "-all" => all = true,
+        "-inline" => inline = true,
+        "-indices" => indices = true,
+        _ => {}
     })?;
     if argv.len() < i + 2 {
         return Err(Exception::wrong_args(&format!("regexp {usage}")));
@@ -269,13 +276,6 @@ fn cmd_regexp(interp: &mut Interp, argv: &[Value]) -> TclResult {
     }
     let re = compile(argv[i].as_str(), flags)?;
     let text = argv[i + 1].as_str();
-    let mut from = match &start {
-        Some(s) => {
-            let n = text.chars().count();
-            byte_offset(text, parse_index(s, n)?.clamp(0, n as i64) as usize)
-        }
-        None => 0,
-    };
     let groups = re.captures_len();
     let mut count = 0i64;
     let mut inline_out = Vec::new();
@@ -339,46 +339,19 @@ fn span_value(text: &str, span: Option<(usize, usize)>, indices: bool) -> Value 
 
 fn cmd_regsub(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let usage = "?-option ...? exp string subSpec ?varName?";
-    let (mut flags, mut all, mut start) = (Flags::default(), false, None);
+    let (mut all, mut command) = (false, false);
     let names =
         ["-all", "-command", "-expanded", "-line", "-linestop", "-lineanchor", "-nocase", "-start"];
-    let mut command = false;
-    let i = switches(argv, &names, |name, value| {
-        match name {
-            "-all" => all = true,
-            "-command" => command = true,
-            "-nocase" => flags.nocase = true,
-            "-expanded" => flags.expanded = true,
-            "-line" => {
-                flags.linestop = true;
-                flags.lineanchor = true;
-            }
-            "-linestop" => flags.linestop = true,
-            "-lineanchor" => flags.lineanchor = true,
-            "-start" => {
-                start = Some(
-                    value
-                        .cloned()
-                        .ok_or_else(|| Exception::error("missing argument to \"-start\""))?,
-                );
-                return Ok(true);
-            }
-            _ => {}
-        }
-        Ok(false)
+    let (i, flags, mut from) = switches(argv, &names, 1, |name| match name {
+        "-all" => all = true,
+        "-command" => command = true,
+        _ => {}
     })?;
     check_args(&argv[i - 1..], 4, 5, "")
         .map_err(|_| Exception::wrong_args(&format!("regsub {usage}")))?;
     let re = compile(argv[i].as_str(), flags)?;
     let text = argv[i + 1].as_str();
     let spec = argv[i + 2].as_str();
-    let mut from = match &start {
-        Some(s) => {
-            let n = text.chars().count();
-            byte_offset(text, parse_index(s, n)?.clamp(0, n as i64) as usize)
-        }
-        None => 0,
-    };
     let mut out = String::from(&text[..from]);
     let mut count = 0i64;
     let mut copied = from;

@@ -99,14 +99,8 @@ fn char_range(s: &str, first: i64, last: i64) -> String {
 
 fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;
-    let sub = pick_option(argv[1].as_str(), SUBCOMMANDS, "subcommand").map_err(|_| {
-        Exception::error(format!(
-            "unknown or ambiguous subcommand \"{}\": must be {}, or {}",
-            argv[1].as_str(),
-            SUBCOMMANDS[..SUBCOMMANDS.len() - 1].join(", "),
-            SUBCOMMANDS[SUBCOMMANDS.len() - 1]
-        ))
-    })?;
+    let sub = super::pick_subcommand(argv[1].as_str(), SUBCOMMANDS)?;
+
     let a = &argv[2..];
     let usage = |u: &str| Exception::wrong_args(&format!("string {sub} {u}"));
     let _ = interp;
