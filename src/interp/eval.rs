@@ -723,6 +723,7 @@ impl Interp {
         match v {
             Operand::Int(i) => Ok(i != 0),
             Operand::Dbl(d) => Ok(d != 0.0),
+            Operand::Big(_) => Ok(true),
             Operand::Str(v) => v.as_bool(),
         }
     }

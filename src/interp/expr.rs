@@ -8,6 +8,9 @@
 use std::rc::Rc;
 
 use logos::Logos;
+use num_bigint::BigInt;
+use num_integer::{Integer, Roots};
+use num_traits::{Signed, Zero};
 
 use super::error::Exception;
 use super::eval::Interp;
@@ -255,6 +258,7 @@ pub enum Expr {
 pub enum Operand {
     Int(i64),
     Dbl(f64),
+    Big(Rc<BigInt>),
     Str(Value),
 }
 
@@ -267,6 +271,7 @@ impl Operand {
         match self {
             Operand::Int(i) => Some(Num::Int(*i)),
             Operand::Dbl(d) => Some(Num::Double(*d)),
+            Operand::Big(b) => Some(Num::Big(b.clone())),
             Operand::Str(v) => v.as_num(),
         }
     }
@@ -280,19 +285,17 @@ impl Operand {
             Operand::Str(v) if v.as_str().is_empty() => {
                 Exception::error(format!("can't use empty string as operand of \"{op}\""))
             }
-            Operand::Str(v) if number::parse_bool(v.as_str()).is_none() || op != "!" => {
-                Exception::error(format!("can't use non-numeric string as operand of \"{op}\""))
-            }
             _ => Exception::error(format!("can't use non-numeric string as operand of \"{op}\"")),
         }
     }
 
-    fn int_for(&self, op: &str) -> Result<i64, Exception> {
+    /// An integer operand of any size, for the bit and shift operators.
+    fn int_for(&self, op: &str) -> Result<Num, Exception> {
         match self.num_for(op)? {
-            Num::Int(i) => Ok(i),
             Num::Double(_) => Err(Exception::error(format!(
                 "can't use floating-point value as operand of \"{op}\""
             ))),
+            n => Ok(n),
         }
     }
 
@@ -300,6 +303,7 @@ impl Operand {
         match self {
             Operand::Int(i) => Ok(*i != 0),
             Operand::Dbl(d) => Ok(*d != 0.0),
+            Operand::Big(_) => Ok(true),
             Operand::Str(v) => v.as_bool(),
         }
     }
@@ -308,6 +312,7 @@ impl Operand {
         match self {
             Operand::Int(i) => Value::from_int(*i),
             Operand::Dbl(d) => Value::from_f64(*d),
+            Operand::Big(b) => Value::from_num(Num::Big(b.clone())),
             Operand::Str(v) => v.clone(),
         }
     }
@@ -316,6 +321,7 @@ impl Operand {
         match self {
             Operand::Int(i) => Value::from_int(i),
             Operand::Dbl(d) => Value::from_f64(d),
+            Operand::Big(b) => Value::from_num(Num::Big(b)),
             Operand::Str(v) => match v.as_num() {
                 Some(n) => Value::from_num(n),
                 None => v,
@@ -328,7 +334,12 @@ fn from_num(n: Num) -> Operand {
     match n {
         Num::Int(i) => Operand::Int(i),
         Num::Double(d) => Operand::Dbl(d),
+        Num::Big(b) => Operand::Big(b),
     }
+}
+
+fn from_big(b: BigInt) -> Operand {
+    from_num(Num::from_big(b))
 }
 
 // ---------------------------------------------------------------------------
@@ -656,8 +667,13 @@ pub fn parse(src: &str, file: Option<Rc<str>>, first_line: u32) -> Result<Expr, 
 // ---------------------------------------------------------------------------
 // Evaluation
 
-fn int_overflow() -> Exception {
-    Exception::error("integer overflow (rayshell integers are 64-bit)")
+/// The most bits a bignum result may have (8 MiB, about 20 million decimal
+/// digits): a guard against `1<<(1<<40)` and `10**(10**12)` exhausting
+/// memory, far beyond what any scene needs.
+const MAX_BIG_BITS: u64 = 1 << 26;
+
+fn too_large() -> Exception {
+    Exception::error("integer value too large to represent")
 }
 
 fn check_double(d: f64) -> Result<Operand, Exception> {
@@ -667,91 +683,231 @@ fn check_double(d: f64) -> Result<Operand, Exception> {
     Ok(Operand::Dbl(d))
 }
 
-fn compare(a: &Operand, b: &Operand) -> std::cmp::Ordering {
-    match (a.num(), b.num()) {
-        (Some(Num::Int(x)), Some(Num::Int(y))) => x.cmp(&y),
-        (Some(x), Some(y)) => {
-            x.to_f64().partial_cmp(&y.to_f64()).unwrap_or(std::cmp::Ordering::Equal)
-        }
-        _ => a.str_value().as_str().cmp(b.str_value().as_str()),
+fn big(n: &Num) -> BigInt {
+    n.to_bigint().unwrap_or_default()
+}
+
+/// An integer against a double, exactly (Tcl does not round the integer
+/// to a double first). `None` when the double is NaN.
+fn cmp_int_double(i: &Num, d: f64) -> Option<std::cmp::Ordering> {
+    use std::cmp::Ordering;
+    if d.is_nan() {
+        return None;
+    }
+    if let Num::Int(i) = i
+        && i.unsigned_abs() <= 1 << 53
+    {
+        return (*i as f64).partial_cmp(&d);
+    }
+    if d.is_infinite() {
+        return Some(if d > 0.0 { Ordering::Less } else { Ordering::Greater });
+    }
+    let t = d.trunc();
+    let whole = BigInt::from(t as i128);
+    let whole = if t.abs() < 1.7e38 { whole } else { num_traits::FromPrimitive::from_f64(t)? };
+    Some(big(i).cmp(&whole).then(if d > t {
+        Ordering::Less
+    } else if d < t {
+        Ordering::Greater
+    } else {
+        Ordering::Equal
+    }))
+}
+
+fn cmp_nums(x: &Num, y: &Num) -> Option<std::cmp::Ordering> {
+    match (x, y) {
+        (Num::Int(a), Num::Int(b)) => Some(a.cmp(b)),
+        (Num::Double(a), Num::Double(b)) => a.partial_cmp(b),
+        (Num::Double(a), i) => cmp_int_double(i, *a).map(std::cmp::Ordering::reverse),
+        (i, Num::Double(b)) => cmp_int_double(i, *b),
+        _ => Some(big(x).cmp(&big(y))),
     }
 }
 
-fn int_pow(base: i64, exp: i64) -> Result<i64, Exception> {
-    if exp < 0 {
-        return match base {
-            0 => Err(Exception::error("exponentiation of zero by negative power")),
-            1 => Ok(1),
-            -1 => Ok(if exp % 2 == 0 { 1 } else { -1 }),
-            _ => Ok(0),
-        };
+/// Numbers compare as numbers, anything else as strings. `None` when a
+/// NaN is involved: every comparison is then false but `!=`.
+fn compare(a: &Operand, b: &Operand) -> Option<std::cmp::Ordering> {
+    match (a.num(), b.num()) {
+        (Some(x), Some(y)) => cmp_nums(&x, &y),
+        _ => Some(a.str_value().as_str().cmp(b.str_value().as_str())),
     }
-    let exp = u32::try_from(exp).map_err(|_| int_overflow())?;
-    base.checked_pow(exp).ok_or_else(int_overflow)
+}
+
+fn int_pow(base: &Num, exp: &Num) -> Result<Operand, Exception> {
+    let odd = |e: &Num| match e {
+        Num::Int(i) => i & 1 == 1,
+        _ => big(e).is_odd(),
+    };
+    let negative = match exp {
+        Num::Int(e) => *e < 0,
+        _ => big(exp).is_negative(),
+    };
+    match base {
+        Num::Int(0) if negative => {
+            return Err(Exception::error("exponentiation of zero by negative power"));
+        }
+        Num::Int(b @ (0 | 1)) => return Ok(Operand::Int(*b)),
+        Num::Int(-1) => return Ok(Operand::Int(if odd(exp) { -1 } else { 1 })),
+        _ if negative => return Ok(Operand::Int(0)),
+        _ => {}
+    }
+    let e = match exp {
+        Num::Int(e) => u32::try_from(*e).ok(),
+        _ => None,
+    };
+    let Some(e) = e else { return Err(Exception::error("exponent too large")) };
+    if let Num::Int(b) = base
+        && let Some(r) = b.checked_pow(e)
+    {
+        return Ok(Operand::Int(r));
+    }
+    let b = big(base);
+    if b.bits().saturating_mul(e as u64) > MAX_BIG_BITS {
+        return Err(Exception::error("exponent too large"));
+    }
+    Ok(from_big(num_traits::Pow::pow(b, e)))
+}
+
+/// `+ - * /` on two integers of any size; the 64-bit path first.
+fn int_arith(op: BinOp, x: &Num, y: &Num) -> Result<Operand, Exception> {
+    if let (Num::Int(a), Num::Int(b)) = (x, y) {
+        let r = match op {
+            BinOp::Add => a.checked_add(*b),
+            BinOp::Sub => a.checked_sub(*b),
+            BinOp::Mul => a.checked_mul(*b),
+            _ => {
+                if *b == 0 {
+                    return Err(Exception::error("divide by zero"));
+                }
+                // Floor division; only MIN / -1 overflows.
+                a.checked_div(*b)
+                    .map(|q| if a % b != 0 && ((*a < 0) != (*b < 0)) { q - 1 } else { q })
+            }
+        };
+        if let Some(r) = r {
+            return Ok(Operand::Int(r));
+        }
+    }
+    let (a, b) = (big(x), big(y));
+    Ok(from_big(match op {
+        BinOp::Add => a + b,
+        BinOp::Sub => a - b,
+        BinOp::Mul => {
+            if a.bits() + b.bits() > MAX_BIG_BITS {
+                return Err(too_large());
+            }
+            a * b
+        }
+        _ => {
+            if b.is_zero() {
+                return Err(Exception::error("divide by zero"));
+            }
+            a.div_floor(&b)
+        }
+    }))
+}
+
+fn int_mod(x: &Num, y: &Num) -> Result<Operand, Exception> {
+    if let (Num::Int(a), Num::Int(b)) = (x, y) {
+        if *b == 0 {
+            return Err(Exception::error("divide by zero"));
+        }
+        if *b == -1 {
+            return Ok(Operand::Int(0));
+        }
+        return Ok(Operand::Int(a.mod_floor(b)));
+    }
+    let b = big(y);
+    if b.is_zero() {
+        return Err(Exception::error("divide by zero"));
+    }
+    Ok(from_big(big(x).mod_floor(&b)))
+}
+
+fn shift(op: BinOp, x: &Num, y: &Num) -> Result<Operand, Exception> {
+    let negative = match y {
+        Num::Int(s) => *s < 0,
+        _ => big(y).is_negative(),
+    };
+    if negative {
+        return Err(Exception::error("negative shift argument"));
+    }
+    let s = match y {
+        Num::Int(s) => *s as u64,
+        _ => u64::MAX,
+    };
+    if op == BinOp::Shr {
+        return Ok(match x {
+            Num::Int(a) => Operand::Int(a >> s.min(63)),
+            _ if s >= MAX_BIG_BITS => Operand::Int(if big(x).is_negative() { -1 } else { 0 }),
+            _ => from_big(big(x) >> s),
+        });
+    }
+    match x {
+        Num::Int(0) => return Ok(Operand::Int(0)),
+        Num::Int(a) if s < 63 && (a << s) >> s == *a => return Ok(Operand::Int(a << s)),
+        _ => {}
+    }
+    let a = big(x);
+    if a.bits().saturating_add(s) > MAX_BIG_BITS {
+        return Err(too_large());
+    }
+    Ok(from_big(a << s))
+}
+
+fn bits(op: BinOp, x: &Num, y: &Num) -> Operand {
+    if let (Num::Int(a), Num::Int(b)) = (x, y) {
+        return Operand::Int(match op {
+            BinOp::BitAnd => a & b,
+            BinOp::BitOr => a | b,
+            _ => a ^ b,
+        });
+    }
+    let (a, b) = (big(x), big(y));
+    from_big(match op {
+        BinOp::BitAnd => a & b,
+        BinOp::BitOr => a | b,
+        _ => a ^ b,
+    })
 }
 
 fn binary(op: BinOp, a: Operand, b: Operand) -> Result<Operand, Exception> {
     let sym = op.symbol();
-    let arith = |a: &Operand, b: &Operand| -> Result<(Num, Num), Exception> {
-        Ok((a.num_for(sym)?, b.num_for(sym)?))
+    let is = |o: Option<std::cmp::Ordering>, f: fn(std::cmp::Ordering) -> bool| {
+        Operand::Int(o.is_some_and(f) as i64)
     };
     Ok(match op {
-        BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Pow => match arith(&a, &b)? {
-            (Num::Int(x), Num::Int(y)) => Operand::Int(match op {
-                BinOp::Add => x.checked_add(y).ok_or_else(int_overflow)?,
-                BinOp::Sub => x.checked_sub(y).ok_or_else(int_overflow)?,
-                BinOp::Mul => x.checked_mul(y).ok_or_else(int_overflow)?,
-                BinOp::Div => {
-                    if y == 0 {
-                        return Err(Exception::error("divide by zero"));
+        BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div | BinOp::Pow => {
+            match (a.num_for(sym)?, b.num_for(sym)?) {
+                (x @ (Num::Int(_) | Num::Big(_)), y @ (Num::Int(_) | Num::Big(_))) => {
+                    if op == BinOp::Pow { int_pow(&x, &y)? } else { int_arith(op, &x, &y)? }
+                }
+                (x, y) => {
+                    let (x, y) = (x.to_f64(), y.to_f64());
+                    if op == BinOp::Pow && x == 0.0 && y < 0.0 {
+                        return Err(Exception::error("exponentiation of zero by negative power"));
                     }
-                    let q = x.checked_div(y).ok_or_else(int_overflow)?;
-                    if x % y != 0 && ((x < 0) != (y < 0)) { q - 1 } else { q }
+                    check_double(match op {
+                        BinOp::Add => x + y,
+                        BinOp::Sub => x - y,
+                        BinOp::Mul => x * y,
+                        BinOp::Div => x / y,
+                        _ => x.powf(y),
+                    })?
                 }
-                _ => int_pow(x, y)?,
-            }),
-            (x, y) => {
-                let (x, y) = (x.to_f64(), y.to_f64());
-                check_double(match op {
-                    BinOp::Add => x + y,
-                    BinOp::Sub => x - y,
-                    BinOp::Mul => x * y,
-                    BinOp::Div => x / y,
-                    _ => x.powf(y),
-                })?
-            }
-        },
-        BinOp::Mod => {
-            let (x, y) = (a.int_for(sym)?, b.int_for(sym)?);
-            if y == 0 {
-                return Err(Exception::error("divide by zero"));
-            }
-            let r = x.checked_rem(y).unwrap_or(0);
-            Operand::Int(if r != 0 && ((r < 0) != (y < 0)) { r + y } else { r })
-        }
-        BinOp::Shl | BinOp::Shr => {
-            let (x, y) = (a.int_for(sym)?, b.int_for(sym)?);
-            if y < 0 {
-                return Err(Exception::error("negative shift argument"));
-            }
-            if op == BinOp::Shl {
-                if y >= 64 || (x != 0 && (x << y) >> y != x) {
-                    return Err(int_overflow());
-                }
-                Operand::Int(x << y)
-            } else {
-                Operand::Int(if y >= 64 { if x < 0 { -1 } else { 0 } } else { x >> y })
             }
         }
-        BinOp::BitAnd => Operand::Int(a.int_for(sym)? & b.int_for(sym)?),
-        BinOp::BitOr => Operand::Int(a.int_for(sym)? | b.int_for(sym)?),
-        BinOp::BitXor => Operand::Int(a.int_for(sym)? ^ b.int_for(sym)?),
-        BinOp::Lt => Operand::Int(compare(&a, &b).is_lt() as i64),
-        BinOp::Gt => Operand::Int(compare(&a, &b).is_gt() as i64),
-        BinOp::Le => Operand::Int(compare(&a, &b).is_le() as i64),
-        BinOp::Ge => Operand::Int(compare(&a, &b).is_ge() as i64),
-        BinOp::Eq => Operand::Int(compare(&a, &b).is_eq() as i64),
-        BinOp::Ne => Operand::Int(compare(&a, &b).is_ne() as i64),
+        BinOp::Mod => int_mod(&a.int_for(sym)?, &b.int_for(sym)?)?,
+        BinOp::Shl | BinOp::Shr => shift(op, &a.int_for(sym)?, &b.int_for(sym)?)?,
+        BinOp::BitAnd | BinOp::BitOr | BinOp::BitXor => {
+            bits(op, &a.int_for(sym)?, &b.int_for(sym)?)
+        }
+        BinOp::Lt => is(compare(&a, &b), std::cmp::Ordering::is_lt),
+        BinOp::Gt => is(compare(&a, &b), std::cmp::Ordering::is_gt),
+        BinOp::Le => is(compare(&a, &b), std::cmp::Ordering::is_le),
+        BinOp::Ge => is(compare(&a, &b), std::cmp::Ordering::is_ge),
+        BinOp::Eq => is(compare(&a, &b), std::cmp::Ordering::is_eq),
+        BinOp::Ne => Operand::Int(!compare(&a, &b).is_some_and(std::cmp::Ordering::is_eq) as i64),
         BinOp::StrEq => Operand::Int((a.str_value().as_str() == b.str_value().as_str()) as i64),
         BinOp::StrNe => Operand::Int((a.str_value().as_str() != b.str_value().as_str()) as i64),
         BinOp::In | BinOp::Ni => {
@@ -766,11 +922,18 @@ fn binary(op: BinOp, a: Operand, b: Operand) -> Result<Operand, Exception> {
 fn unary(op: UnOp, x: Operand) -> Result<Operand, Exception> {
     Ok(match op {
         UnOp::Neg => match x.num_for("-")? {
-            Num::Int(i) => Operand::Int(i.checked_neg().ok_or_else(int_overflow)?),
+            Num::Int(i) => match i.checked_neg() {
+                Some(n) => Operand::Int(n),
+                None => from_big(-BigInt::from(i)),
+            },
             Num::Double(d) => Operand::Dbl(-d),
+            Num::Big(b) => from_big(-(*b).clone()),
         },
         UnOp::Plus => from_num(x.num_for("+")?),
-        UnOp::BitNot => Operand::Int(!x.int_for("~")?),
+        UnOp::BitNot => match x.int_for("~")? {
+            Num::Int(i) => Operand::Int(!i),
+            n => from_big(-big(&n) - 1),
+        },
         UnOp::Not => match x.num() {
             Some(n) => Operand::Int(!n.truthy() as i64),
             None => match &x {
@@ -784,27 +947,20 @@ fn unary(op: UnOp, x: Operand) -> Result<Operand, Exception> {
     })
 }
 
-fn to_int(d: f64) -> Result<i64, Exception> {
+/// A double's integer part, of any size.
+fn entier(d: f64) -> Result<Num, Exception> {
     if !d.is_finite() {
-        return Err(Exception::error("integer value too large to represent"));
+        return Err(too_large());
     }
     let t = d.trunc();
-    if !(-9.223_372_036_854_776e18..9.223_372_036_854_776e18).contains(&t) {
-        return Err(Exception::error("integer value too large to represent"));
+    if (-9.223_372_036_854_776e18..9.223_372_036_854_776e18).contains(&t) {
+        return Ok(Num::Int(t as i64));
     }
-    Ok(t as i64)
+    let b: Option<BigInt> = num_traits::FromPrimitive::from_f64(t);
+    b.map(Num::from_big).ok_or_else(too_large)
 }
 
 fn call(interp: &mut Interp, f: Func, args: Vec<Operand>) -> Result<Operand, Exception> {
-    let dbl = |o: &Operand| -> Result<f64, Exception> {
-        match o.num() {
-            Some(n) => Ok(n.to_f64()),
-            None => Err(Exception::error(format!(
-                "expected floating-point number but got \"{}\"",
-                o.str_value().as_str()
-            ))),
-        }
-    };
     let num = |o: &Operand| -> Result<Num, Exception> {
         o.num().ok_or_else(|| {
             Exception::error(format!(
@@ -812,6 +968,13 @@ fn call(interp: &mut Interp, f: Func, args: Vec<Operand>) -> Result<Operand, Exc
                 o.str_value().as_str()
             ))
         })
+    };
+    let dbl = |o: &Operand| -> Result<f64, Exception> { Ok(num(o)?.to_f64()) };
+    let integer = |o: &Operand| -> Result<Num, Exception> {
+        match num(o)? {
+            Num::Double(d) => entier(d),
+            n => Ok(n),
+        }
     };
     let d1 = |g: fn(f64) -> f64| -> Result<Operand, Exception> { check_double(g(dbl(&args[0])?)) };
     match f {
@@ -839,33 +1002,45 @@ fn call(interp: &mut Interp, f: Func, args: Vec<Operand>) -> Result<Operand, Exc
             check_double(x % y)
         }
         Func::Abs => Ok(match num(&args[0])? {
-            Num::Int(i) => Operand::Int(i.checked_abs().ok_or_else(int_overflow)?),
+            Num::Int(i) => match i.checked_abs() {
+                Some(a) => Operand::Int(a),
+                None => from_big(BigInt::from(i).abs()),
+            },
             Num::Double(d) => Operand::Dbl(d.abs()),
+            Num::Big(b) => from_big(b.abs()),
         }),
-        Func::Int | Func::Wide | Func::Entier => Ok(match num(&args[0])? {
-            Num::Int(i) => Operand::Int(i),
-            Num::Double(d) => Operand::Int(to_int(d)?),
-        }),
+        Func::Int | Func::Wide => {
+            Ok(Operand::Int(integer(&args[0])?.wrap_i64().expect("an integer")))
+        }
+        Func::Entier => Ok(from_num(integer(&args[0])?)),
         Func::Round => Ok(match num(&args[0])? {
-            Num::Int(i) => Operand::Int(i),
-            Num::Double(d) => Operand::Int(to_int(d.round())?),
+            Num::Double(d) => from_num(entier(d.round())?),
+            n => from_num(n),
         }),
         Func::Isqrt => {
-            let x = dbl(&args[0])?;
-            if x < 0.0 {
+            let n = integer(&args[0])?;
+            let negative = match &n {
+                Num::Int(i) => *i < 0,
+                _ => big(&n).is_negative(),
+            };
+            if negative {
                 return Err(Exception::error("square root of negative argument"));
             }
-            Ok(Operand::Int(to_int(x.sqrt().floor())?))
+            Ok(match n {
+                Num::Int(i) => Operand::Int((i as u64).sqrt() as i64),
+                n => from_big(big(&n).sqrt()),
+            })
         }
         Func::Bool => Ok(Operand::Int(args[0].truth()? as i64)),
         Func::Max | Func::Min => {
             let mut best = num(&args[0])?;
             for a in &args[1..] {
                 let n = num(a)?;
+                let order = cmp_nums(&n, &best);
                 let better = if f == Func::Max {
-                    n.to_f64() > best.to_f64()
+                    order.is_some_and(std::cmp::Ordering::is_gt)
                 } else {
-                    n.to_f64() < best.to_f64()
+                    order.is_some_and(std::cmp::Ordering::is_lt)
                 };
                 if better {
                     best = n;
@@ -875,10 +1050,7 @@ fn call(interp: &mut Interp, f: Func, args: Vec<Operand>) -> Result<Operand, Exc
         }
         Func::Rand => Ok(Operand::Dbl(interp.next_rand())),
         Func::Srand => {
-            let seed = match num(&args[0])? {
-                Num::Int(i) => i,
-                Num::Double(d) => to_int(d)?,
-            };
+            let seed = integer(&args[0])?.wrap_i64().expect("an integer");
             interp.seed_rand(seed);
             Ok(Operand::Dbl(interp.next_rand()))
         }

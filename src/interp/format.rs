@@ -1,6 +1,9 @@
 //! `format`: C's printf as Tcl 8.6 does it (flags `-+ 0#`, width and
 //! precision with `*`, XPG `%n$` positions, `d i u o x X b c s f e g a %`).
 
+use num_bigint::{BigUint, Sign};
+use num_traits::Zero;
+
 use super::error::Exception;
 use super::number::{self, Num};
 use super::value::Value;
@@ -13,7 +16,18 @@ struct Spec {
     alt: bool,
     width: usize,
     precision: Option<usize>,
-    big: bool,
+    size: Size,
+}
+
+/// C's size modifier: how many bits of an integer are printed.
+#[derive(Clone, Copy, PartialEq)]
+enum Size {
+    /// `h`: 16 bits.
+    Short,
+    /// None or `l`: 64 bits, as Tcl 8.6 on a 64-bit machine.
+    Wide,
+    /// `ll`: the whole integer, bignums included, with a sign.
+    Big,
 }
 
 fn pad(spec: &Spec, body: String, numeric: bool) -> String {
@@ -57,6 +71,25 @@ fn get_int(v: &Value) -> Result<i64, Exception> {
         Some(Num::Int(i)) => Ok(i),
         _ => Err(number::int_error(v.as_str())),
     }
+}
+
+/// An integer argument cut to the spec's size: (negative, magnitude).
+fn sized_int(v: &Value, size: Size, signed: bool) -> Result<(bool, BigUint), Exception> {
+    let n = match v.as_num() {
+        Some(n @ (Num::Int(_) | Num::Big(_))) => n,
+        _ => return Err(number::int_error(v.as_str())),
+    };
+    let wide = n.wrap_i64().expect("an integer");
+    Ok(match size {
+        Size::Big => {
+            let b = n.to_bigint().expect("an integer");
+            (b.sign() == Sign::Minus, b.magnitude().clone())
+        }
+        Size::Wide if signed => (wide < 0, BigUint::from(wide.unsigned_abs())),
+        Size::Wide => (false, BigUint::from(wide as u64)),
+        Size::Short if signed => ((wide as i16) < 0, BigUint::from((wide as i16).unsigned_abs())),
+        Size::Short => (false, BigUint::from(wide as u16)),
+    })
 }
 
 fn get_double(v: &Value) -> Result<f64, Exception> {
@@ -171,7 +204,7 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
             alt: false,
             width: 0,
             precision: None,
-            big: false,
+            size: Size::Wide,
         };
         while i < chars.len() {
             match chars[i] {
@@ -222,11 +255,11 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
         }
         // Size modifiers.
         if i + 1 < chars.len() && chars[i] == 'l' && chars[i + 1] == 'l' {
-            spec.big = true;
+            spec.size = Size::Big;
             i += 2;
-        } else if i < chars.len() && matches!(chars[i], 'h' | 'l' | 'L' | 'j' | 'q') {
-            if chars[i] == 'L' {
-                spec.big = true;
+        } else if i < chars.len() && matches!(chars[i], 'h' | 'l') {
+            if chars[i] == 'h' {
+                spec.size = Size::Short;
             }
             i += 1;
         }
@@ -235,44 +268,39 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
         };
         i += 1;
         let piece = match conv {
-            'd' | 'i' => {
-                let v = get_int(&take_arg(&mut next_arg)?)?;
-                let mut digits = v.unsigned_abs().to_string();
-                if let Some(p) = spec.precision {
-                    while digits.len() < p {
-                        digits.insert(0, '0');
-                    }
-                }
-                pad(&spec, format!("{}{digits}", sign(&spec, v < 0)), spec.precision.is_none())
-            }
-            'u' | 'o' | 'x' | 'X' | 'b' => {
-                let v = get_int(&take_arg(&mut next_arg)?)?;
-                let (neg, mag) =
-                    if spec.big && v < 0 { (true, v.unsigned_abs()) } else { (false, v as u64) };
+            'd' | 'i' | 'u' | 'o' | 'x' | 'X' | 'b' => {
+                let signed = matches!(conv, 'd' | 'i') || spec.size == Size::Big;
+                let (neg, mag) = sized_int(&take_arg(&mut next_arg)?, spec.size, signed)?;
                 let mut digits = match conv {
-                    'u' => mag.to_string(),
-                    'o' => format!("{mag:o}"),
-                    'x' => format!("{mag:x}"),
-                    'X' => format!("{mag:X}"),
-                    _ => format!("{mag:b}"),
+                    'o' => mag.to_str_radix(8),
+                    'x' => mag.to_str_radix(16),
+                    'X' => mag.to_str_radix(16).to_ascii_uppercase(),
+                    'b' => mag.to_str_radix(2),
+                    _ => mag.to_string(),
                 };
                 if let Some(p) = spec.precision {
+                    if p == 0 && mag.is_zero() {
+                        digits.clear();
+                    }
                     while digits.len() < p {
                         digits.insert(0, '0');
                     }
                 }
-                let prefix = match (spec.alt && mag != 0, conv) {
+                let prefix = match (spec.alt && !mag.is_zero(), conv) {
                     (true, 'o') => "0",
                     (true, 'x') => "0x",
                     (true, 'X') => "0X",
                     (true, 'b') => "0b",
                     _ => "",
                 };
-                pad(
-                    &spec,
-                    format!("{}{prefix}{digits}", if neg { "-" } else { "" }),
-                    spec.precision.is_none(),
-                )
+                let sign = if matches!(conv, 'd' | 'i') {
+                    sign(&spec, neg)
+                } else if neg {
+                    "-"
+                } else {
+                    ""
+                };
+                pad(&spec, format!("{sign}{prefix}{digits}"), spec.precision.is_none())
             }
             'c' => {
                 let v = get_int(&take_arg(&mut next_arg)?)?;

@@ -2,28 +2,94 @@
 //! `0b`, leading-zero octal), doubles, booleans, and the shortest round-trip
 //! printing of doubles (`1.0`, `0.30000000000000004`, `1e+20`).
 
+use std::rc::Rc;
+
+use num_bigint::BigInt;
+use num_traits::{ToPrimitive, Zero};
+
 use super::error::Exception;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A Tcl number. Integers are 64-bit until they overflow, then bignums
+/// (invariant: a `Big` never fits an `i64`, so `Int` is the only form of
+/// a small integer and the fast paths need look no further).
+#[derive(Clone, Debug, PartialEq)]
 pub enum Num {
     Int(i64),
     Double(f64),
+    Big(Rc<BigInt>),
 }
 
 impl Num {
-    pub fn to_f64(self) -> f64 {
-        match self {
-            Num::Int(i) => i as f64,
-            Num::Double(d) => d,
+    /// An integer of any size, in its canonical form.
+    pub fn from_big(b: BigInt) -> Num {
+        match b.to_i64() {
+            Some(i) => Num::Int(i),
+            None => Num::Big(Rc::new(b)),
         }
     }
 
-    pub fn truthy(self) -> bool {
+    pub fn to_f64(&self) -> f64 {
         match self {
-            Num::Int(i) => i != 0,
-            Num::Double(d) => d != 0.0,
+            Num::Int(i) => *i as f64,
+            Num::Double(d) => *d,
+            Num::Big(b) => big_to_f64(b),
         }
     }
+
+    pub fn truthy(&self) -> bool {
+        match self {
+            Num::Int(i) => *i != 0,
+            Num::Double(d) => *d != 0.0,
+            Num::Big(b) => !b.is_zero(),
+        }
+    }
+
+    /// The integer as a bignum, or `None` for a double.
+    pub fn to_bigint(&self) -> Option<BigInt> {
+        match self {
+            Num::Int(i) => Some(BigInt::from(*i)),
+            Num::Double(_) => None,
+            Num::Big(b) => Some((**b).clone()),
+        }
+    }
+
+    /// An integer cut to its low 64 bits, as `wide()` and `%d` do.
+    pub fn wrap_i64(&self) -> Option<i64> {
+        match self {
+            Num::Int(i) => Some(*i),
+            Num::Double(_) => None,
+            Num::Big(b) => Some(wrap_big(b)),
+        }
+    }
+}
+
+/// The sum of two integers of any size.
+pub fn int_add(a: &Num, b: &Num) -> Num {
+    if let (Num::Int(x), Num::Int(y)) = (a, b)
+        && let Some(s) = x.checked_add(*y)
+    {
+        return Num::Int(s);
+    }
+    match (a.to_bigint(), b.to_bigint()) {
+        (Some(x), Some(y)) => Num::from_big(x + y),
+        _ => Num::Double(a.to_f64() + b.to_f64()),
+    }
+}
+
+/// The low 64 bits of a bignum, two's complement.
+pub fn wrap_big(b: &BigInt) -> i64 {
+    let digits = b.iter_u64_digits().next().unwrap_or(0);
+    let v = digits as i64;
+    if b.sign() == num_bigint::Sign::Minus { v.wrapping_neg() } else { v }
+}
+
+/// A bignum as the nearest double (infinite when out of range).
+pub fn big_to_f64(b: &BigInt) -> f64 {
+    b.to_f64().unwrap_or(if b.sign() == num_bigint::Sign::Minus {
+        f64::NEG_INFINITY
+    } else {
+        f64::INFINITY
+    })
 }
 
 fn trim_tcl(s: &str) -> &str {
@@ -72,12 +138,42 @@ pub fn parse_int(s: &str) -> Option<i64> {
     }
 }
 
+/// Parses an integer of any size in any Tcl syntax.
+pub fn parse_integer(s: &str) -> Option<Num> {
+    if let Some(i) = parse_int(s) {
+        return Some(Num::Int(i));
+    }
+    let t = trim_tcl(s);
+    let (neg, body) = match t.as_bytes().first()? {
+        b'-' => (true, &t[1..]),
+        b'+' => (false, &t[1..]),
+        _ => (false, t),
+    };
+    let b = body.as_bytes();
+    let (radix, digits) = if b.len() > 1 && b[0] == b'0' {
+        match b[1] {
+            b'x' | b'X' => (16, &body[2..]),
+            b'o' | b'O' => (8, &body[2..]),
+            b'b' | b'B' => (2, &body[2..]),
+            b'0'..=b'9' => (8, &body[1..]),
+            _ => return None,
+        }
+    } else {
+        (10, body)
+    };
+    if digits.is_empty() || !digits.bytes().all(|c| (c as char).is_digit(radix)) {
+        return None;
+    }
+    let mag = BigInt::parse_bytes(digits.as_bytes(), radix)?;
+    Some(Num::from_big(if neg { -mag } else { mag }))
+}
+
 /// Parses a double in Tcl syntax; integers are accepted too.
 pub fn parse_double(s: &str) -> Option<f64> {
     if let Some(i) = parse_int(s) {
         return Some(i as f64);
     }
-    parse_float(s)
+    parse_float(s).or_else(|| parse_integer(s).map(|n| n.to_f64()))
 }
 
 /// A double that is not written as an integer.
@@ -163,15 +259,18 @@ pub fn parse_num(s: &str) -> Option<Num> {
     let decimal = matches!(body, [b'1'..=b'9', ..] | [b'0', b'.', ..] | [b'0']);
     if decimal {
         if body.iter().all(u8::is_ascii_digit) {
-            return s.parse::<i64>().ok().map(Num::Int);
+            return match s.parse::<i64>() {
+                Ok(i) => Some(Num::Int(i)),
+                Err(_) => parse_integer(s),
+            };
         }
         if body.iter().all(|c| c.is_ascii_digit() || matches!(c, b'.' | b'e' | b'E' | b'+' | b'-'))
         {
             return s.parse::<f64>().ok().map(Num::Double);
         }
     }
-    if let Some(i) = parse_int(s) {
-        return Some(Num::Int(i));
+    if let Some(n) = parse_integer(s) {
+        return Some(n);
     }
     parse_float(s).map(Num::Double)
 }

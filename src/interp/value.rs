@@ -71,6 +71,7 @@ pub(crate) enum Rep {
     None,
     Int(i64),
     Double(f64),
+    Big(Rc<num_bigint::BigInt>),
     List(Rc<Vec<Value>>),
     Script(Rc<Script>),
     Expr(Rc<Expr>),
@@ -130,6 +131,9 @@ impl Value {
         match n {
             Num::Int(i) => Value::from_int(i),
             Num::Double(d) => Value::from_f64(d),
+            Num::Big(b) => {
+                Value(Rc::new(Inner { string: OnceCell::new(), rep: RefCell::new(Rep::Big(b)) }))
+            }
         }
     }
 
@@ -166,6 +170,7 @@ impl Value {
         let s = match &*self.0.rep.borrow() {
             Rep::Int(i) => CompactString::from(itoa::Buffer::new().format(*i)),
             Rep::Double(d) => CompactString::from(number::format_double(*d)),
+            Rep::Big(b) => CompactString::from(b.to_string()),
             Rep::List(items) => match list::format_list_checked(items) {
                 Ok(s) => CompactString::from(s),
                 Err(e) => {
@@ -186,7 +191,7 @@ impl Value {
 
     pub fn is_empty(&self) -> bool {
         match &*self.0.rep.borrow() {
-            Rep::Int(_) | Rep::Double(_) => return false,
+            Rep::Int(_) | Rep::Double(_) | Rep::Big(_) => return false,
             Rep::List(l) if self.0.string.get().is_none() => return l.is_empty(),
             _ => {}
         }
@@ -211,14 +216,16 @@ impl Value {
         match &*self.0.rep.borrow() {
             Rep::Int(i) => return Some(Num::Int(*i)),
             Rep::Double(d) => return Some(Num::Double(*d)),
+            Rep::Big(b) => return Some(Num::Big(b.clone())),
             _ => {}
         }
         let n = number::parse_num(self.as_str())?;
         // Keep a list, script or expression cache; numbers are cheap to re-parse.
         if matches!(&*self.0.rep.borrow(), Rep::None | Rep::Origin(..)) {
-            self.set_rep(match n {
-                Num::Int(i) => Rep::Int(i),
-                Num::Double(d) => Rep::Double(d),
+            self.set_rep(match &n {
+                Num::Int(i) => Rep::Int(*i),
+                Num::Double(d) => Rep::Double(*d),
+                Num::Big(b) => Rep::Big(b.clone()),
             });
         }
         Some(n)
@@ -227,6 +234,15 @@ impl Value {
     pub fn as_int(&self) -> Result<i64, Exception> {
         match self.as_num() {
             Some(Num::Int(i)) => Ok(i),
+            Some(Num::Big(_)) => Err(Exception::error("integer value too large to represent")),
+            _ => Err(number::int_error(self.as_str())),
+        }
+    }
+
+    /// The value as an integer of any size.
+    pub fn as_integer(&self) -> Result<Num, Exception> {
+        match self.as_num() {
+            Some(n @ (Num::Int(_) | Num::Big(_))) => Ok(n),
             _ => Err(number::int_error(self.as_str())),
         }
     }

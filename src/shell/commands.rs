@@ -70,12 +70,13 @@ impl Args<'_> {
     /// Argument `i` as an integer: any number syntax with an integral
     /// value (`5`, `5.0`, `1e3`), as C `printf` and converters write them.
     pub(super) fn int(&self, i: usize) -> Result<i64, Exception> {
-        match self.nums[i] {
-            Num::Int(n) => Ok(n),
-            Num::Double(d) if d.fract() == 0.0 && d.abs() < 9.0e18 => Ok(d as i64),
+        match &self.nums[i] {
+            Num::Int(n) => Ok(*n),
+            Num::Double(d) if d.fract() == 0.0 && d.abs() < 9.0e18 => Ok(*d as i64),
             Num::Double(d) => {
-                Err(self.err(i, format!("expected integer but got \"{}\"", format_double(d))))
+                Err(self.err(i, format!("expected integer but got \"{}\"", format_double(*d))))
             }
+            Num::Big(b) => Err(self.err(i, format!("integer {b} is too large"))),
         }
     }
 }

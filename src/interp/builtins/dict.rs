@@ -8,6 +8,7 @@ use indexmap::IndexMap;
 use super::{check_args, glob_match};
 use crate::interp::error::{Code, Exception, TclResult};
 use crate::interp::eval::Interp;
+use crate::interp::number::{self, Num};
 use crate::interp::value::Value;
 
 pub(super) const COMMANDS: &[super::Entry] =
@@ -239,18 +240,15 @@ fn cmd_dict(interp: &mut Interp, argv: &[Value]) -> TclResult {
             let name = a[0].as_str();
             let mut d = dict_of(&var_or_empty(interp, name)?)?;
             let by = match a.get(2) {
-                Some(v) => v.as_int()?,
-                None => 1,
+                Some(v) => v.as_integer()?,
+                None => Num::Int(1),
             };
             let k = a[1].as_str();
             let old = match d.get(k) {
-                Some(v) => v.as_int()?,
-                None => 0,
+                Some(v) => v.as_integer()?,
+                None => Num::Int(0),
             };
-            let sum = old.checked_add(by).ok_or_else(|| {
-                Exception::error("integer overflow (rayshell integers are 64-bit)")
-            })?;
-            d.insert(k.to_string(), Value::from_int(sum));
+            d.insert(k.to_string(), Value::from_num(number::int_add(&old, &by)));
             interp.set_var(name, value_of(&d))
         }
         "append" | "lappend" => {

@@ -1,6 +1,7 @@
 //! The built-in Tcl commands, registered in one table (`register_all`), with
 //! the usage line each one reports in `wrong # args` and in `help`.
 
+mod binary;
 mod control;
 mod dict;
 mod lists;
@@ -30,7 +31,8 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 8] = [
+    let tables: [&[Entry]; 9] = [
+        binary::COMMANDS,
         control::COMMANDS,
         dict::COMMANDS,
         vars::COMMANDS,

@@ -4,7 +4,7 @@
 use super::super::error::{Exception, TclResult};
 use super::super::eval::{Interp, check_len};
 use super::super::format;
-use super::super::number;
+use super::super::number::{self, Num};
 use super::super::value::Value;
 use super::{Entry, check_args, glob_match, parse_index, pick_option};
 
@@ -435,7 +435,7 @@ fn string_is(interp: &mut Interp, a: &[Value]) -> TclResult {
         "true" => number::parse_bool(s) == Some(true) || number::parse_int(s) == Some(1),
         "false" => number::parse_bool(s) == Some(false) || number::parse_int(s) == Some(0),
         "double" => number::parse_double(s).is_some(),
-        "integer" | "wideinteger" | "entier" => number::parse_int(s).is_some(),
+        "integer" | "wideinteger" | "entier" => int_class_fits(class, s),
         _ => v.as_list().is_ok(),
     };
     if r {
@@ -448,7 +448,7 @@ fn string_is(interp: &mut Interp, a: &[Value]) -> TclResult {
                 if class == "double" {
                     number::parse_double(p).is_some()
                 } else {
-                    number::parse_int(p).is_some()
+                    int_class_fits(class, p)
                 }
             };
             let ends: Vec<usize> =
@@ -458,6 +458,23 @@ fn string_is(interp: &mut Interp, a: &[Value]) -> TclResult {
         _ => 0,
     };
     fail_at(at, interp)
+}
+
+/// Whether `s` is an integer `string is CLASS` accepts: Tcl takes a
+/// magnitude of up to 32 bits for `integer` (either sign), up to 64 for
+/// `wideinteger`, any for `entier`.
+fn int_class_fits(class: &str, s: &str) -> bool {
+    let Some(n) = number::parse_integer(s) else { return false };
+    let bits = match &n {
+        Num::Int(i) => 64 - i.unsigned_abs().leading_zeros() as u64,
+        Num::Big(b) => b.bits(),
+        Num::Double(_) => return false,
+    };
+    match class {
+        "integer" => bits <= 32,
+        "wideinteger" => bits <= 64,
+        _ => true,
+    }
 }
 
 fn cmd_format(_: &mut Interp, argv: &[Value]) -> TclResult {

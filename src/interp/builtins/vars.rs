@@ -4,6 +4,7 @@ use indexmap::IndexMap;
 
 use super::super::error::{Exception, TclResult};
 use super::super::eval::{Interp, Var, check_len};
+use super::super::number::{self, Num};
 use super::super::value::Value;
 use super::{Entry, check_args, glob_match, pick_option};
 
@@ -78,13 +79,9 @@ fn cmd_append(interp: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn cmd_incr(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, 3, "varName ?increment?")?;
-    let by = if argv.len() == 3 { argv[2].as_int()? } else { 1 };
+    let by = if argv.len() == 3 { argv[2].as_integer()? } else { Num::Int(1) };
     interp.update_var(argv[1].as_str(), Some(Value::from_int(0)), &mut |v| {
-        let n = v.as_int()?;
-        let sum = n
-            .checked_add(by)
-            .ok_or_else(|| Exception::error("integer overflow (rayshell integers are 64-bit)"))?;
-        *v = Value::from_int(sum);
+        *v = Value::from_num(number::int_add(&v.as_integer()?, &by));
         Ok(())
     })
 }
