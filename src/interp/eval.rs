@@ -246,6 +246,11 @@ impl Interp {
         self.set_help(name, usage, summary);
     }
 
+    /// A command without a help entry (`tcl::mathop::+` and the like).
+    pub(crate) fn register_hidden(&mut self, name: &str, f: NativeFn) {
+        self.set_command(name.to_string(), CommandKind::Native(f, false));
+    }
+
     pub fn register_host(
         &mut self,
         name: &str,

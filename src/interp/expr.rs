@@ -24,7 +24,7 @@ enum Tok {
     #[regex(r"\.[0-9]+([eE][+-]?[0-9]+)?")]
     #[regex(r"0[xX][0-9a-fA-F]+|0[bB][01]+|0[oO][0-7]+")]
     Number,
-    #[regex(r"[A-Za-z_][A-Za-z0-9_]*(::[A-Za-z0-9_]+)*")]
+    #[regex(r"[A-Za-z][A-Za-z0-9_]*")]
     Ident,
     #[token("**")]
     Pow,
@@ -194,7 +194,13 @@ pub enum Func {
 }
 
 impl Func {
-    fn from_name(name: &str) -> Option<Func> {
+    pub(crate) const NAMES: &[&str] = &[
+        "abs", "acos", "asin", "atan", "atan2", "bool", "ceil", "cos", "cosh", "double", "entier",
+        "exp", "floor", "fmod", "hypot", "int", "isqrt", "log", "log10", "max", "min", "pow",
+        "rand", "round", "sin", "sinh", "sqrt", "srand", "tan", "tanh", "wide",
+    ];
+
+    pub(crate) fn from_name(name: &str) -> Option<Func> {
         Some(match name {
             "abs" => Func::Abs,
             "acos" => Func::Acos,
@@ -251,6 +257,8 @@ pub enum Expr {
     Or(Box<Expr>, Box<Expr>),
     Ternary(Box<Expr>, Box<Expr>, Box<Expr>),
     Call(Func, Vec<Expr>),
+    /// A function of the script's own: the command `tcl::mathfunc::NAME`.
+    Custom(Rc<str>, Vec<Expr>),
 }
 
 /// An operand during evaluation: numbers stay unboxed.
@@ -263,7 +271,7 @@ pub enum Operand {
 }
 
 impl Operand {
-    fn from_value(v: Value) -> Operand {
+    pub(crate) fn from_value(v: Value) -> Operand {
         Operand::Str(v)
     }
 
@@ -276,8 +284,14 @@ impl Operand {
         }
     }
 
-    fn num_for(&self, op: &str) -> Result<Num, Exception> {
-        self.num().ok_or_else(|| self.type_error(op))
+    pub(crate) fn num_for(&self, op: &str) -> Result<Num, Exception> {
+        match self.num() {
+            Some(Num::Double(d)) if d.is_nan() => Err(Exception::error(format!(
+                "can't use non-numeric floating-point value as operand of \"{op}\""
+            ))),
+            Some(n) => Ok(n),
+            None => Err(self.type_error(op)),
+        }
     }
 
     fn type_error(&self, op: &str) -> Exception {
@@ -299,9 +313,10 @@ impl Operand {
         }
     }
 
-    fn truth(&self) -> Result<bool, Exception> {
+    pub(crate) fn truth(&self) -> Result<bool, Exception> {
         match self {
             Operand::Int(i) => Ok(*i != 0),
+            Operand::Dbl(d) if d.is_nan() => Err(not_a_number()),
             Operand::Dbl(d) => Ok(*d != 0.0),
             Operand::Big(_) => Ok(true),
             Operand::Str(v) => v.as_bool(),
@@ -344,6 +359,23 @@ fn from_big(b: BigInt) -> Operand {
 
 // ---------------------------------------------------------------------------
 // Parsing
+
+/// Tcl's bareword characters.
+fn is_bareword(c: u8) -> bool {
+    c.is_ascii_alphanumeric() || c == b'_'
+}
+
+/// `eq ne in ni` at the start of `s`, when no letter follows them.
+fn word_operator(s: &str) -> Option<BinOp> {
+    let op = match s.get(..2)? {
+        "eq" => BinOp::StrEq,
+        "ne" => BinOp::StrNe,
+        "in" => BinOp::In,
+        "ni" => BinOp::Ni,
+        _ => return None,
+    };
+    (!s.as_bytes().get(2).is_some_and(u8::is_ascii_alphabetic)).then_some(op)
+}
 
 struct ExprParser<'a> {
     src: &'a str,
@@ -398,14 +430,30 @@ impl<'a> ExprParser<'a> {
         match lex.next() {
             Some(Ok(t)) => {
                 let span = lex.span();
-                let r = Some((t, start + span.start, start + span.end));
+                let (mut t, mut end) = (t, start + span.end);
+                if t == Tok::Number && self.src.as_bytes().get(end).is_some_and(|&c| is_bareword(c))
+                {
+                    // A number run into letters: Tcl keeps the number when
+                    // it has a `.` or sign in it or an operator follows
+                    // (`3eq2`); otherwise the whole run is one bareword.
+                    let text = &self.src.as_bytes()[start..end];
+                    if text.iter().all(|&c| is_bareword(c))
+                        && word_operator(&self.src[end..]).is_none()
+                    {
+                        t = Tok::Ident;
+                        end += self.src.as_bytes()[end..]
+                            .iter()
+                            .take_while(|&&c| is_bareword(c))
+                            .count();
+                    }
+                }
+                let r = Some((t, start + span.start, end));
                 self.peeked = Some(r);
                 Ok(r)
             }
             _ => {
-                // An unknown character: report it as a bareword.
                 let ch = self.src[start..].chars().next().unwrap_or(' ');
-                Err(self.bareword(&ch.to_string()))
+                Err(self.whole(&format!("invalid character \"{ch}\"")))
             }
         }
     }
@@ -449,12 +497,9 @@ impl<'a> ExprParser<'a> {
             Tok::BitAnd => BinOp::BitAnd,
             Tok::BitOr => BinOp::BitOr,
             Tok::BitXor => BinOp::BitXor,
-            Tok::Ident => match &self.src[s..e] {
-                "eq" => BinOp::StrEq,
-                "ne" => BinOp::StrNe,
-                "in" => BinOp::In,
-                "ni" => BinOp::Ni,
-                _ => return Ok(None),
+            Tok::Ident => match word_operator(&self.src[s..e]) {
+                Some(op) => return Ok(Some((op, s + 2))),
+                None => return Err(self.bareword(&self.src[s..e])),
             },
             _ => return Ok(None),
         };
@@ -620,30 +665,15 @@ impl<'a> ExprParser<'a> {
                 }
             }
         }
-        match Func::from_name(&name) {
-            Some(f) => {
-                let (lo, hi) = f.arity();
-                if args.len() < lo {
-                    return Err(Exception::error(format!(
-                        "not enough arguments for math function \"{name}\""
-                    )));
-                }
-                if args.len() > hi {
-                    return Err(Exception::error(format!(
-                        "too many arguments for math function \"{name}\""
-                    )));
-                }
-                Ok(Expr::Call(f, args))
-            }
-            None => {
-                Err(Exception::error(format!("invalid command name \"tcl::mathfunc::{name}\"")))
-            }
-        }
+        Ok(match Func::from_name(&name) {
+            Some(f) => Expr::Call(f, args),
+            None => Expr::Custom(Rc::from(name.as_str()), args),
+        })
     }
 
     fn word_operand(&mut self) -> PResult<Expr> {
         self.script.set_pos(self.pos);
-        let w = self.script.expr_word().map_err(|e| Exception::error(e.msg))?;
+        let w = self.script.expr_word().map_err(|e| self.whole(&e.msg))?;
         self.pos = self.script.pos();
         self.peeked = None;
         Ok(match w {
@@ -671,6 +701,10 @@ pub fn parse(src: &str, file: Option<Rc<str>>, first_line: u32) -> Result<Expr, 
 /// digits): a guard against `1<<(1<<40)` and `10**(10**12)` exhausting
 /// memory, far beyond what any scene needs.
 const MAX_BIG_BITS: u64 = 1 << 26;
+
+fn not_a_number() -> Exception {
+    Exception::error("floating point value is Not a Number")
+}
 
 fn too_large() -> Exception {
     Exception::error("integer value too large to represent")
@@ -742,6 +776,9 @@ fn int_pow(base: &Num, exp: &Num) -> Result<Operand, Exception> {
         Num::Int(e) => *e < 0,
         _ => big(exp).is_negative(),
     };
+    if *exp == Num::Int(0) {
+        return Ok(Operand::Int(1));
+    }
     match base {
         Num::Int(0) if negative => {
             return Err(Exception::error("exponentiation of zero by negative power"));
@@ -871,7 +908,7 @@ fn bits(op: BinOp, x: &Num, y: &Num) -> Operand {
     })
 }
 
-fn binary(op: BinOp, a: Operand, b: Operand) -> Result<Operand, Exception> {
+pub(crate) fn binary(op: BinOp, a: Operand, b: Operand) -> Result<Operand, Exception> {
     let sym = op.symbol();
     let is = |o: Option<std::cmp::Ordering>, f: fn(std::cmp::Ordering) -> bool| {
         Operand::Int(o.is_some_and(f) as i64)
@@ -919,7 +956,7 @@ fn binary(op: BinOp, a: Operand, b: Operand) -> Result<Operand, Exception> {
     })
 }
 
-fn unary(op: UnOp, x: Operand) -> Result<Operand, Exception> {
+pub(crate) fn unary(op: UnOp, x: Operand) -> Result<Operand, Exception> {
     Ok(match op {
         UnOp::Neg => match x.num_for("-")? {
             Num::Int(i) => match i.checked_neg() {
@@ -935,6 +972,7 @@ fn unary(op: UnOp, x: Operand) -> Result<Operand, Exception> {
             n => from_big(-big(&n) - 1),
         },
         UnOp::Not => match x.num() {
+            Some(Num::Double(d)) if d.is_nan() => return Err(x.num_for("!").unwrap_err()),
             Some(n) => Operand::Int(!n.truthy() as i64),
             None => match &x {
                 Operand::Str(v) => match number::parse_bool(v.as_str()) {
@@ -960,14 +998,39 @@ fn entier(d: f64) -> Result<Num, Exception> {
     b.map(Num::from_big).ok_or_else(too_large)
 }
 
-fn call(interp: &mut Interp, f: Func, args: Vec<Operand>) -> Result<Operand, Exception> {
+/// Calls a built-in math function (from `expr` or as a
+/// `tcl::mathfunc` command), checking its argument count.
+pub(crate) fn call(
+    interp: &mut Interp,
+    f: Func,
+    name: &str,
+    args: Vec<Operand>,
+) -> Result<Operand, Exception> {
+    let (lo, hi) = f.arity();
+    if args.len() < lo {
+        let to = if matches!(f, Func::Max | Func::Min) { "to" } else { "for" };
+        return Err(Exception::error(format!(
+            "not enough arguments {to} math function \"{name}\""
+        )));
+    }
+    if args.len() > hi {
+        return Err(Exception::error(format!("too many arguments for math function \"{name}\"")));
+    }
+    // Functions of any number say "number"; those of doubles say so.
+    let kind = match f {
+        Func::Abs | Func::Int | Func::Wide | Func::Entier | Func::Round | Func::Isqrt => "number",
+        Func::Srand => "integer",
+        _ => "floating-point number",
+    };
     let num = |o: &Operand| -> Result<Num, Exception> {
-        o.num().ok_or_else(|| {
-            Exception::error(format!(
-                "expected floating-point number but got \"{}\"",
+        match o.num() {
+            Some(Num::Double(d)) if d.is_nan() => Err(not_a_number()),
+            Some(n) => Ok(n),
+            None => Err(Exception::error(format!(
+                "expected {kind} but got \"{}\"",
                 o.str_value().as_str()
-            ))
-        })
+            ))),
+        }
     };
     let dbl = |o: &Operand| -> Result<f64, Exception> { Ok(num(o)?.to_f64()) };
     let integer = |o: &Operand| -> Result<Num, Exception> {
@@ -1087,7 +1150,15 @@ pub(crate) fn eval(interp: &mut Interp, e: &Expr) -> Result<Operand, Exception> 
             for a in args {
                 vals.push(eval(interp, a)?);
             }
-            call(interp, *f, vals)?
+            call(interp, *f, Func::NAMES[*f as usize], vals)?
+        }
+        Expr::Custom(name, args) => {
+            let mut argv = Vec::with_capacity(args.len() + 1);
+            argv.push(Value::from(format!("tcl::mathfunc::{name}")));
+            for a in args {
+                argv.push(eval(interp, a)?.into_value());
+            }
+            Operand::Str(interp.invoke(&argv)?)
         }
     })
 }

@@ -383,6 +383,13 @@ impl Parser {
         is_blank(c) || c == b'\n' || c == b';' || (nested && c == b']')
     }
 
+    /// Whether a word may end before `pos`: a separator, or a
+    /// backslash-newline (which Tcl reads as a space).
+    fn word_ends_at(&self, pos: usize, nested: bool) -> bool {
+        let b = self.src.as_bytes();
+        self.is_word_end(b[pos], nested) || (b[pos] == b'\\' && b.get(pos + 1) == Some(&b'\n'))
+    }
+
     pub(crate) fn pos(&self) -> usize {
         self.pos
     }
@@ -578,7 +585,7 @@ impl Parser {
             None => self.src[open + 1..pos].to_string(),
         };
         self.pos = pos + 1;
-        if check_end && self.pos < len && !self.is_word_end(self.src.as_bytes()[self.pos], nested) {
+        if check_end && self.pos < len && !self.word_ends_at(self.pos, nested) {
             return Err(self.err("extra characters after close-brace", self.pos, false, cmd_start));
         }
         let line = self.line_at(open);
@@ -604,10 +611,7 @@ impl Parser {
             self.part(&mut parts, nested, cmd_start, b'"')?;
         }
         self.pos += 1;
-        if check_end
-            && self.pos < self.src.len()
-            && !self.is_word_end(self.src.as_bytes()[self.pos], nested)
-        {
+        if check_end && self.pos < self.src.len() && !self.word_ends_at(self.pos, nested) {
             return Err(self.err("extra characters after close-quote", self.pos, false, cmd_start));
         }
         Ok(parts.into_word())

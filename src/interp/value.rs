@@ -259,6 +259,9 @@ impl Value {
 
     pub fn as_bool(&self) -> Result<bool, Exception> {
         if let Some(n) = self.as_num() {
+            if matches!(n, Num::Double(d) if d.is_nan()) {
+                return Err(Exception::error("floating point value is Not a Number"));
+            }
             return Ok(n.truthy());
         }
         number::parse_bool(self.as_str()).ok_or_else(|| {

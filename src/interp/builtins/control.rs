@@ -935,6 +935,36 @@ fn cmd_time(interp: &mut Interp, argv: &[Value]) -> TclResult {
     Ok(Value::from_string(format!("{shown} microseconds per iteration")))
 }
 
+/// `info commands` and `info procs`: without `::` in the pattern, the
+/// current namespace's commands and the global ones, by their simple
+/// names; with a qualified pattern, that namespace's, fully qualified.
+fn command_list(interp: &Interp, keys: Vec<String>, pattern: Option<&str>) -> Value {
+    let ns_of = |k: &str| k.rfind("::").map_or("", |i| &k[..i]).to_string();
+    let tail = |k: &str| k.rsplit("::").next().unwrap_or(k).to_string();
+    let Some((ns, pat)) = pattern.and_then(|p| p.rsplit_once("::")) else {
+        let here = interp.ns.to_string();
+        let mut seen = std::collections::HashSet::new();
+        let names = keys
+            .iter()
+            .filter(|k| ns_of(k) == here || !k.contains("::"))
+            .map(|k| tail(k))
+            .filter(|n| seen.insert(n.clone()))
+            .collect();
+        return filter(names, pattern.map(Value::from).as_ref());
+    };
+    let ns = match ns.strip_prefix("::") {
+        Some(abs) => abs.to_string(),
+        None if interp.ns.is_empty() => ns.to_string(),
+        None => format!("{}::{ns}", interp.ns),
+    };
+    let names = keys
+        .iter()
+        .filter(|k| ns_of(k) == ns && glob_match(pat, &tail(k), false))
+        .map(|k| format!("::{k}"))
+        .collect();
+    filter(names, None)
+}
+
 fn filter(names: Vec<String>, pattern: Option<&Value>) -> Value {
     let items = names
         .into_iter()
@@ -987,12 +1017,7 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
             }
             let names =
                 if sub == "commands" { interp.command_names() } else { interp.proc_names() };
-            // A qualified pattern (`::apply`) gives qualified names.
-            if let Some(p) = args.first().and_then(|p| p.as_str().strip_prefix("::")) {
-                let names = names.into_iter().map(|n| format!("::{n}")).collect();
-                return Ok(filter(names, Some(&Value::from(format!("::{p}").as_str()))));
-            }
-            Ok(filter(names, args.first()))
+            Ok(command_list(interp, names, args.first().map(Value::as_str)))
         }
         "complete" => {
             if args.len() != 1 {

@@ -5,6 +5,7 @@ mod binary;
 mod control;
 mod dict;
 mod lists;
+mod mathop;
 mod namespace;
 mod package;
 pub(crate) mod regexp;
@@ -47,6 +48,7 @@ pub(crate) fn register_all(interp: &mut Interp) {
             interp.register(name, *f, usage, summary);
         }
     }
+    mathop::register(interp);
 }
 
 /// Checks the argument count: `min..=max` words including the command name.
