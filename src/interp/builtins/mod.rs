@@ -9,6 +9,7 @@ mod mathop;
 mod namespace;
 mod package;
 pub(crate) mod regexp;
+mod scan;
 mod strings;
 mod vars;
 
@@ -32,7 +33,7 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 9] = [
+    let tables: [&[Entry]; 10] = [
         binary::COMMANDS,
         control::COMMANDS,
         dict::COMMANDS,
@@ -41,6 +42,7 @@ pub(crate) fn register_all(interp: &mut Interp) {
         strings::COMMANDS,
         package::COMMANDS,
         regexp::COMMANDS,
+        scan::COMMANDS,
         namespace::COMMANDS,
     ];
     for table in tables {
