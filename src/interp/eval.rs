@@ -1062,6 +1062,13 @@ impl Interp {
             set(self, &format!("tcl_platform({k})"), v);
         }
         set(self, "auto_path", "");
+        // No script library ships with rayshell; TCL_LIBRARY names one.
+        set(self, "tcl_library", &std::env::var("TCL_LIBRARY").unwrap_or_default());
+    }
+
+    /// Commands run so far (`info cmdcount`).
+    pub(crate) fn commands_run(&self) -> u64 {
+        self.commands_run
     }
 }
 

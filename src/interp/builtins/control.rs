@@ -977,24 +977,35 @@ fn filter(names: Vec<String>, pattern: Option<&Value>) -> Value {
 pub(crate) const INFO_SUBCOMMANDS: &[&str] = &[
     "args",
     "body",
+    "class",
+    "cmdcount",
     "commands",
     "complete",
+    "coroutine",
     "default",
+    "errorstack",
     "exists",
+    "frame",
+    "functions",
     "globals",
+    "hostname",
     "level",
+    "library",
+    "loaded",
     "locals",
     "nameofexecutable",
+    "object",
     "patchlevel",
     "procs",
     "script",
+    "sharedlibextension",
     "tclversion",
     "vars",
 ];
 
 fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;
-    let sub = pick_option(argv[1].as_str(), INFO_SUBCOMMANDS, "option")?;
+    let sub = super::pick_subcommand(argv[1].as_str(), INFO_SUBCOMMANDS)?;
     let proc_of = |interp: &Interp, name: &Value| {
         interp
             .get_proc(name.as_str())
@@ -1092,6 +1103,43 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
             Ok(filter(names, args.first()))
         }
         "script" => Ok(interp.script_file.as_deref().map(Value::from).unwrap_or_else(Value::empty)),
+        "functions" => {
+            if args.len() > 1 {
+                return Err(usage("?pattern?"));
+            }
+            let names = crate::interp::expr::Func::NAMES.iter().map(|n| n.to_string()).collect();
+            Ok(filter(names, args.first()))
+        }
+        "library" => {
+            if !args.is_empty() {
+                return Err(usage(""));
+            }
+            interp
+                .get_var("::tcl_library")
+                .map_err(|_| Exception::error("no library has been specified for Tcl"))
+        }
+        "loaded" => {
+            if args.len() > 2 {
+                return Err(usage("?interp? ?packageName?"));
+            }
+            Ok(Value::empty())
+        }
+        "cmdcount" | "sharedlibextension" | "hostname" | "coroutine" => {
+            if !args.is_empty() {
+                return Err(usage(""));
+            }
+            Ok(match sub {
+                "cmdcount" => Value::from_int(interp.commands_run() as i64),
+                "sharedlibextension" => Value::from(std::env::consts::DLL_SUFFIX),
+                "hostname" => Value::from(
+                    std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap_or_default().trim(),
+                ),
+                _ => Value::empty(),
+            })
+        }
+        "class" | "object" | "frame" | "errorstack" => {
+            Err(Exception::error(format!("info {sub} is not supported by rayshell")))
+        }
         "patchlevel" | "tclversion" | "nameofexecutable" => {
             if !args.is_empty() {
                 return Err(usage(""));
