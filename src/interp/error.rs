@@ -64,6 +64,13 @@ pub struct Exception {
     pub(crate) trace: String,
     /// True once the command that raised the error is in `trace`.
     pub(crate) traced: bool,
+    /// Tcl's ERR_ALREADY_LOGGED: the evaluation unit now running (a
+    /// proc body, a script given to `eval`, ...) has put its command in
+    /// `trace`, so the commands around it in the same unit add nothing.
+    pub(crate) logged: bool,
+    /// The line of the unit's innermost failing command (in the text the
+    /// unit was parsed from), for the unit's `line N`.
+    pub(crate) abs_line: u32,
     pub(crate) error_code: Option<Value>,
     /// The innermost location with a file, for `file:line:` messages.
     pub loc: Option<Loc>,
@@ -82,6 +89,8 @@ impl Exception {
             return_code: None,
             level: 0,
             traced: false,
+            logged: false,
+            abs_line: 0,
             error_code: None,
             loc: None,
             script_line: 0,
@@ -96,6 +105,8 @@ impl Exception {
             level: 0,
             trace: String::new(),
             traced: false,
+            logged: false,
+            abs_line: 0,
             error_code: None,
             loc: None,
             script_line: 0,

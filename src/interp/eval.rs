@@ -159,6 +159,9 @@ pub struct Interp {
     pub(crate) host: Box<dyn Host>,
     rand_seed: i64,
     pub(crate) script_file: Option<Rc<str>>,
+    /// Whether commands run directly from a file's top level, not inside a
+    /// unit Tcl would compile (see `add_trace`).
+    pub(crate) direct: bool,
     help: BTreeMap<String, (String, String)>,
     pub(crate) packages: super::builtins::Packages,
     /// The current namespace, qualified without the leading `::` (empty:
@@ -219,6 +222,7 @@ impl Interp {
             host,
             rand_seed: 0,
             script_file: None,
+            direct: false,
             help: BTreeMap::new(),
             packages: Default::default(),
             ns: Rc::from(""),
@@ -473,10 +477,41 @@ impl Interp {
         s
     }
 
-    /// Evaluates a script held in a value.
+    /// Evaluates a script held in a value, as its own evaluation unit
+    /// (what Tcl compiles separately: a proc body, a script for `eval`).
     pub fn eval(&mut self, script: &Value) -> TclResult {
         let s = Interp::script_of(script);
+        let direct = std::mem::replace(&mut self.direct, false);
+        let r = self.eval_script(&s);
+        self.direct = direct;
+        r.map_err(|mut e| {
+            if e.abs_line > 0 {
+                e.script_line = (e.abs_line + 1).saturating_sub(s.first_line).max(1);
+            }
+            e.logged = false;
+            e.abs_line = 0;
+            e
+        })
+    }
+
+    /// Evaluates the body of a command that Tcl compiles into the script
+    /// around it (`if`, `while`, `catch`...; `foreach` and the like only
+    /// inside procs): an error in it is logged as part of that script.
+    pub(crate) fn eval_inline(&mut self, script: &Value) -> TclResult {
+        if self.direct {
+            return self.eval(script);
+        }
+        let s = Interp::script_of(script);
         self.eval_script(&s)
+    }
+
+    /// Evaluates a loop or `switch` body: inline inside a proc; outside,
+    /// a unit of its own that names itself, as `("foreach" body line 2)`.
+    pub(crate) fn eval_body(&mut self, script: &Value, what: &str) -> TclResult {
+        if self.level() > 0 && !self.direct {
+            return self.eval_inline(script);
+        }
+        self.eval(script).map_err(|e| super::builtins::with_body_line(e, what))
     }
 
     pub fn eval_str(&mut self, src: &str) -> TclResult {
@@ -496,7 +531,7 @@ impl Interp {
             match self.eval_command(cmd) {
                 Ok(v) => result = v,
                 Err(mut e) => {
-                    add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file);
+                    add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, self.direct);
                     return Err(e);
                 }
             }
@@ -504,7 +539,7 @@ impl Interp {
         if let Some(pe) = &s.error {
             let text = &s.src[pe.cmd_start as usize..(pe.pos as usize).min(s.src.len())];
             let mut e = Exception::error(pe.msg.clone());
-            add_trace(&mut e, text, pe.line, s.first_line, &s.file);
+            add_trace(&mut e, text, pe.line, s.first_line, &s.file, self.direct);
             return Err(e);
         }
         Ok(result)
@@ -1165,12 +1200,17 @@ pub(crate) fn check_list_len(n: usize) -> Result<(), Exception> {
     Ok(crate::mem::reserve_n(n, std::mem::size_of::<Value>())?)
 }
 
+/// Logs a failing command into errorInfo as Tcl does: once per
+/// evaluation unit (the innermost command of a proc body, say, and not the
+/// commands around it in that body), but every command when evaluating
+/// `direct`ly (a source file's top level, where Tcl compiles nothing).
 pub(crate) fn add_trace(
     e: &mut Exception,
     text: &str,
     line: u32,
     first_line: u32,
     file: &Option<Rc<str>>,
+    direct: bool,
 ) {
     if e.code != Code::Error {
         // break/continue/return: no trace, but remember where, in case it
@@ -1180,19 +1220,25 @@ pub(crate) fn add_trace(
         }
         return;
     }
-    let text = truncate_cmd(text);
-    if e.traced {
-        e.trace.push_str("\n    invoked from within\n\"");
-    } else {
-        e.trace.push_str("\n    while executing\n\"");
-        e.traced = true;
+    if e.abs_line == 0 || direct {
+        e.abs_line = line;
+        e.script_line = line + 1 - first_line;
     }
-    e.trace.push_str(&text);
-    e.trace.push('"');
-    e.script_line = line + 1 - first_line;
     if e.loc.is_none() && file.is_some() {
         e.loc = Some(Loc { file: file.clone(), line });
     }
+    if !e.logged {
+        let text = truncate_cmd(text);
+        if e.traced {
+            e.trace.push_str("\n    invoked from within\n\"");
+        } else {
+            e.trace.push_str("\n    while executing\n\"");
+            e.traced = true;
+        }
+        e.trace.push_str(&text);
+        e.trace.push('"');
+    }
+    e.logged = !direct;
 }
 
 fn proc_usage(p: &Proc, name: &Value) -> Exception {
@@ -1221,6 +1267,10 @@ pub(crate) fn finish_return(mut e: Exception) -> TclResult {
         Some(Code::Error) => {
             let mut err = Exception::error(e.value.as_str().to_string());
             err.error_code = e.error_code;
+            if e.traced {
+                err.trace = e.trace;
+                err.traced = true;
+            }
             Err(err)
         }
         Some(code) => Err(Exception::flow(code, e.value)),

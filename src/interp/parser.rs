@@ -83,8 +83,12 @@ impl Script {
         Script { cmds, error, src, file, first_line }
     }
 
+    /// A command's text as errorInfo shows it: with the blanks before its
+    /// terminator, as Tcl's parser counts them in.
     pub(crate) fn text(&self, cmd: &Command) -> &str {
-        &self.src[cmd.start as usize..cmd.end as usize]
+        let end = cmd.end as usize;
+        let blanks = self.src.as_bytes()[end..].iter().take_while(|&&c| c == b' ' || c == b'\t');
+        &self.src[cmd.start as usize..end + blanks.count()]
     }
 }
 

@@ -230,7 +230,9 @@ impl Interp {
     ) -> TclResult {
         let file: Option<Rc<str>> = file.map(Rc::from);
         let saved_file = std::mem::replace(&mut self.script_file, file.clone());
+        let direct = std::mem::replace(&mut self.direct, true);
         let r = f(self, &file);
+        self.direct = direct;
         self.script_file = saved_file;
         match r {
             Err(mut e) if e.code == Code::Error => {
@@ -306,7 +308,7 @@ impl Interp {
                 return Ok(());
             }
             Some(Err(mut e)) => {
-                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file);
+                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file, true);
                 return Err(e);
             }
             None => {}
@@ -336,7 +338,7 @@ impl Interp {
                 Ok(())
             }
             Err(mut e) => {
-                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file);
+                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file, true);
                 Err(e)
             }
         }
@@ -376,7 +378,7 @@ impl Interp {
                         Ok(v) => st.result = v,
                         Err(mut e) => {
                             let text = &p.src()[cmd.start as usize..cmd.end as usize];
-                            add_trace(&mut e, text, cmd.line, 1, file);
+                            add_trace(&mut e, text, cmd.line, 1, file, true);
                             return Err(e);
                         }
                     }
@@ -386,7 +388,7 @@ impl Interp {
                     let src = p.src();
                     let text = &src[pe.cmd_start as usize..(pe.pos as usize).min(src.len())];
                     let mut e = Exception::error(pe.msg.clone());
-                    add_trace(&mut e, text, pe.line, 1, file);
+                    add_trace(&mut e, text, pe.line, 1, file, true);
                     return Err(e);
                 }
             }

@@ -116,7 +116,7 @@ fn cmd_if(interp: &mut Interp, argv: &[Value]) -> TclResult {
             )));
         }
         if cond {
-            return interp.eval(&argv[i]);
+            return interp.eval_inline(&argv[i]);
         }
         i += 1;
         if i >= argv.len() {
@@ -136,7 +136,7 @@ fn cmd_if(interp: &mut Interp, argv: &[Value]) -> TclResult {
                         "wrong # args: extra words after \"else\" clause in \"if\" command",
                     ));
                 }
-                return interp.eval(&argv[i]);
+                return interp.eval_inline(&argv[i]);
             }
             _ => {
                 if i + 1 < argv.len() {
@@ -144,7 +144,7 @@ fn cmd_if(interp: &mut Interp, argv: &[Value]) -> TclResult {
                         "wrong # args: extra words after \"else\" clause in \"if\" command",
                     ));
                 }
-                return interp.eval(&argv[i]);
+                return interp.eval_inline(&argv[i]);
             }
         }
     }
@@ -161,7 +161,7 @@ fn cmd_expr(interp: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_while(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 3, 3, "test command")?;
     while interp.eval_cond(&argv[1])? {
-        if let Flow::Stop = loop_body(interp.eval(&argv[2]))? {
+        if let Flow::Stop = loop_body(interp.eval_inline(&argv[2]))? {
             break;
         }
     }
@@ -170,12 +170,12 @@ fn cmd_while(interp: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn cmd_for(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 5, 5, "start test next command")?;
-    interp.eval(&argv[1])?;
+    interp.eval_inline(&argv[1])?;
     while interp.eval_cond(&argv[2])? {
-        if let Flow::Stop = loop_body(interp.eval(&argv[4]))? {
+        if let Flow::Stop = loop_body(interp.eval_inline(&argv[4]))? {
             break;
         }
-        interp.eval(&argv[3])?;
+        interp.eval_inline(&argv[3])?;
     }
     Ok(Value::empty())
 }
@@ -218,7 +218,8 @@ fn each(interp: &mut Interp, argv: &[Value], mut collect: Option<&mut Vec<Value>
                 interp.set_var(var.as_str(), v)?;
             }
         }
-        let r = interp.eval(body);
+        let what = if collect.is_some() { "\"lmap\" body" } else { "\"foreach\" body" };
+        let r = interp.eval_body(body, what);
         if let (Some(out), Ok(v)) = (collect.as_deref_mut(), &r) {
             out.push(v.clone());
         }
@@ -445,7 +446,8 @@ fn cmd_switch(interp: &mut Interp, argv: &[Value]) -> TclResult {
             // Fall through bodies that are "-".
             for body in pairs[k * 2..].chunks(2).map(|p| &p[1]) {
                 if body.as_str() != "-" {
-                    return interp.eval(body);
+                    let arm = format!("\"{}\" arm", pairs[k * 2].as_str());
+                    return interp.eval_body(body, &arm);
                 }
             }
             return Err(Exception::error(format!(
@@ -548,6 +550,7 @@ fn cmd_return(_: &mut Interp, argv: &[Value]) -> TclResult {
         if let Some(info) = &error_info {
             e.trace = info.clone();
             e.traced = true;
+            e.logged = true;
         }
         e
     };
@@ -568,13 +571,14 @@ fn cmd_return(_: &mut Interp, argv: &[Value]) -> TclResult {
     e.error_code = error_code;
     if let Some(info) = error_info {
         e.trace = info;
+        e.traced = true;
     }
     Err(e)
 }
 
 fn cmd_catch(interp: &mut Interp, argv: &[Value]) -> TclResult {
-    check_args(argv, 2, 4, "script ?resultVarName? ?optionsVarName?")?;
-    let r = interp.eval(&argv[1]);
+    check_args(argv, 2, 4, "script ?resultVarName? ?optionVarName?")?;
+    let r = interp.eval_inline(&argv[1]);
     if let Err(e) = &r
         && let Code::Exit(_) = e.code
     {
@@ -691,7 +695,7 @@ fn cmd_try(interp: &mut Interp, argv: &[Value]) -> TclResult {
     if handlers.last().is_some_and(|h| h.2.as_str() == "-") {
         return Err(Exception::error("last non-finally clause must not have a body of \"-\""));
     }
-    let r = interp.eval(&argv[1]);
+    let r = interp.eval_inline(&argv[1]);
     if let Err(e) = &r
         && let Code::Exit(_) = e.code
     {
@@ -727,8 +731,8 @@ fn cmd_try(interp: &mut Interp, argv: &[Value]) -> TclResult {
         if let Some(v) = vars.get(1) {
             interp.set_var(v.as_str(), opts)?;
         }
-        result = interp.eval(&script).map_err(|mut e| {
-            if e.code == Code::Error {
+        result = interp.eval_inline(&script).map_err(|mut e| {
+            if e.code == Code::Error && interp.level() == 0 {
                 let what = if matches!(handlers[k].0, Match::Code(_)) { "on" } else { "trap" };
                 e.trace.push_str(&format!(
                     "\n    (\"try ... {what}\" handler line {})",
@@ -739,12 +743,7 @@ fn cmd_try(interp: &mut Interp, argv: &[Value]) -> TclResult {
         });
     }
     if let Some(f) = finally {
-        interp.eval(&f).map_err(|mut e| {
-            if e.code == Code::Error {
-                e.trace.push_str(&format!("\n    (\"finally\" body line {})", e.script_line));
-            }
-            e
-        })?;
+        interp.eval_inline(&f)?;
     }
     result
 }
@@ -856,6 +855,7 @@ fn cmd_error(_: &mut Interp, argv: &[Value]) -> TclResult {
     if argv.len() > 2 && !argv[2].as_str().is_empty() {
         e.trace = argv[2].as_str().to_string();
         e.traced = true;
+        e.logged = true;
     }
     if argv.len() > 3 {
         e.error_code = Some(argv[3].clone());
@@ -877,7 +877,17 @@ pub(crate) fn concat(args: &[Value]) -> TclResult {
 
 fn cmd_eval(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "arg ?arg ...?")?;
-    interp.eval(&concat(&argv[1..])?)
+    let script = if argv.len() == 2 { argv[1].clone() } else { concat(&argv[1..])? };
+    interp.eval(&script).map_err(|e| with_body_line(e, "\"eval\" body"))
+}
+
+/// An error leaving a script a command ran adds where it was in it, as
+/// `("eval" body line 2)`.
+pub(crate) fn with_body_line(mut e: Exception, what: &str) -> Exception {
+    if e.code == Code::Error {
+        e.trace.push_str(&format!("\n    ({what} line {})", e.script_line));
+    }
+    e
 }
 
 fn cmd_uplevel(interp: &mut Interp, argv: &[Value]) -> TclResult {
@@ -890,8 +900,8 @@ fn cmd_uplevel(interp: &mut Interp, argv: &[Value]) -> TclResult {
     } else {
         (interp.resolve_level("1")?, &argv[1..])
     };
-    let script = concat(rest)?;
-    interp.in_frame(frame, |i| i.eval(&script))
+    let script = if rest.len() == 1 { rest[0].clone() } else { concat(rest)? };
+    interp.in_frame(frame, |i| i.eval(&script)).map_err(|e| with_body_line(e, "\"uplevel\" body"))
 }
 
 fn cmd_source(interp: &mut Interp, argv: &[Value]) -> TclResult {

@@ -116,14 +116,6 @@ fn var_or_empty(interp: &mut Interp, name: &str) -> TclResult {
     }
 }
 
-/// An error from a body gets its frame, as `("dict for" body line 3)`.
-fn body_frame(mut e: Exception, what: &str) -> Exception {
-    if e.code == Code::Error {
-        e.trace.push_str(&format!("\n    (\"dict {what}\" body line {})", e.script_line));
-    }
-    e
-}
-
 fn cmd_dict(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;
     let sub = super::pick_subcommand(argv[1].as_str(), SUBCOMMANDS)?;
@@ -284,7 +276,7 @@ fn cmd_dict(interp: &mut Interp, argv: &[Value]) -> TclResult {
             for (k, v) in &d {
                 interp.set_var(vars[0].as_str(), Value::from(k.as_str()))?;
                 interp.set_var(vars[1].as_str(), v.clone())?;
-                match interp.eval(&a[2]) {
+                match interp.eval_body(&a[2], &format!("\"dict {sub}\" body")) {
                     Ok(r) => {
                         if sub == "map" {
                             out.insert(k.clone(), r);
@@ -292,7 +284,7 @@ fn cmd_dict(interp: &mut Interp, argv: &[Value]) -> TclResult {
                     }
                     Err(e) if e.code == Code::Continue => {}
                     Err(e) if e.code == Code::Break => break,
-                    Err(e) => return Err(body_frame(e, sub)),
+                    Err(e) => return Err(e),
                 }
             }
             Ok(if sub == "map" { value_of(&out) } else { Value::empty() })

@@ -24,6 +24,7 @@ pub fn subcommands(command: &str) -> Option<&'static [&'static str]> {
     }
 }
 
+pub(crate) use control::with_body_line;
 pub use package::{Packages, TCL_PATCHLEVEL, TCL_VERSION};
 
 use super::error::Exception;
