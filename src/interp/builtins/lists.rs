@@ -165,8 +165,10 @@ fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let mut decreasing = false;
     let mut unique = false;
     let mut nocase = false;
-    let mut index: Option<Value> = None;
+    let mut index: Vec<Value> = Vec::new();
     let mut command: Option<Value> = None;
+    let mut stride: Option<i64> = None;
+    let mut indices = false;
     let mut i = 1;
     while i < argv.len() - 1 {
         let opt = pick_option(
@@ -178,9 +180,11 @@ fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 "-dictionary",
                 "-increasing",
                 "-index",
+                "-indices",
                 "-integer",
                 "-nocase",
                 "-real",
+                "-stride",
                 "-unique",
             ],
             "option",
@@ -191,18 +195,41 @@ fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
             "-decreasing" => decreasing = true,
             "-unique" => unique = true,
             "-nocase" => nocase = true,
-            "-index" | "-command" => {
+            "-indices" => indices = true,
+            "-index" | "-command" | "-stride" => {
                 i += 1;
                 if i >= argv.len() - 1 {
                     return Err(Exception::error(format!(
                         "\"{opt}\" option must be followed by {}",
-                        if opt == "-index" { "list index" } else { "comparison command" }
+                        match opt {
+                            "-index" => "list index",
+                            "-stride" => "stride length",
+                            _ => "comparison command",
+                        }
                     )));
                 }
-                if opt == "-index" {
-                    index = Some(argv[i].clone());
-                } else {
-                    command = Some(argv[i].clone());
+                match opt {
+                    "-index" => {
+                        index = argv[i].as_list()?.to_vec();
+                        for idx in &index {
+                            // A negative literal index can select nothing.
+                            parse_index(idx, 0)?;
+                            if idx.as_int().is_ok_and(|k| k < 0) {
+                                return Err(Exception::error(format!(
+                                    "index \"{}\" cannot select an element from any list",
+                                    idx.as_str()
+                                )));
+                            }
+                        }
+                    }
+                    "-stride" => {
+                        let n = argv[i].as_int()?;
+                        if n < 2 {
+                            return Err(Exception::error("stride length must be at least 2"));
+                        }
+                        stride = Some(n);
+                    }
+                    _ => command = Some(argv[i].clone()),
                 }
             }
             _ => {}
@@ -210,29 +237,47 @@ fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
         i += 1;
     }
     let items = argv[argv.len() - 1].as_list()?;
-    let mut keyed: Vec<(Value, Value)> = Vec::with_capacity(items.len());
-    for it in items.iter() {
-        let key = match &index {
-            Some(idx) => {
-                let sub = it.as_list()?;
-                let k = parse_index(idx, sub.len())?;
-                if k < 0 || k as usize >= sub.len() {
-                    return Err(Exception::error(format!(
-                        "element {} missing from sublist \"{}\"",
-                        idx.as_str(),
-                        it.as_str()
-                    )));
-                }
-                sub[k as usize].clone()
+    let group = stride.map_or(1, |n| usize::try_from(n).unwrap_or(usize::MAX));
+    if !items.len().is_multiple_of(group) {
+        return Err(Exception::error("list size must be a multiple of the stride length"));
+    }
+    // The key's path: with a stride, the first index picks within a group.
+    let mut path: &[Value] = &index;
+    let mut lead = 0usize;
+    if stride.is_some()
+        && let Some((first, rest)) = index.split_first()
+    {
+        let k = parse_index(first, group)?;
+        if k < 0 || k as usize >= group {
+            return Err(Exception::error(
+                "when used with \"-stride\", the leading \"-index\" value must be within the group",
+            ));
+        }
+        lead = k as usize;
+        path = rest;
+    }
+    // (key, first position of the group)
+    let mut keyed: Vec<(Value, usize)> = Vec::with_capacity(items.len() / group);
+    for start in (0..items.len()).step_by(group) {
+        let mut key = items[start + lead].clone();
+        for idx in path {
+            let sub = key.as_list()?;
+            let k = parse_index(idx, sub.len())?;
+            if k < 0 || k as usize >= sub.len() {
+                return Err(Exception::error(format!(
+                    "element {} missing from sublist \"{}\"",
+                    idx.as_str(),
+                    key.as_str()
+                )));
             }
-            None => it.clone(),
-        };
+            key = sub[k as usize].clone();
+        }
         if mode == "-integer" {
             key.as_int()?;
         } else if mode == "-real" {
             key.as_f64()?;
         }
-        keyed.push((key, it.clone()));
+        keyed.push((key, start));
     }
     let err: std::cell::RefCell<Option<Exception>> = std::cell::RefCell::new(None);
     let mut cmp = |a: &Value, b: &Value| -> Ordering {
@@ -272,7 +317,7 @@ fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
         return Err(e);
     }
     if unique {
-        let mut out: Vec<(Value, Value)> = Vec::with_capacity(keyed.len());
+        let mut out: Vec<(Value, usize)> = Vec::with_capacity(keyed.len());
         for kv in keyed {
             // Keep the last of a run of equal keys, as Tcl does.
             if let Some(prev) = out.last()
@@ -284,7 +329,13 @@ fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
         }
         keyed = out;
     }
-    Ok(Value::from_list(keyed.into_iter().map(|(_, v)| v).collect()))
+    let mut out = Vec::with_capacity(keyed.len() * group);
+    for (_, start) in keyed {
+        for k in start..start + group {
+            out.push(if indices { Value::from_int(k as i64) } else { items[k].clone() });
+        }
+    }
+    Ok(Value::from_list(out))
 }
 
 fn cmd_lsearch(_: &mut Interp, argv: &[Value]) -> TclResult {
