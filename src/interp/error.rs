@@ -116,6 +116,7 @@ impl Exception {
     /// `wrong # args: should be "usage"`.
     pub fn wrong_args(usage: &str) -> Exception {
         Exception::error(format!("wrong # args: should be \"{usage}\""))
+            .with_error_code("TCL WRONGARGS")
     }
 
     pub fn message(&self) -> &str {

@@ -3,6 +3,7 @@
 //! adds its own commands as closures and supplies I/O through `Host`, so
 //! this module does no I/O of its own and knows nothing of graphics.
 
+use std::borrow::Cow;
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::rc::Rc;
@@ -119,6 +120,21 @@ pub(crate) enum Var {
     Undefined,
     Scalar(Value),
     Array(IndexMap<String, Value>),
+    /// `upvar a(k) e`: `e` stands for element `k` of the array in the cell.
+    Elem(VarCell, Rc<str>),
+}
+
+/// Follows an element link: a plain name that is `upvar`ed to an array
+/// element means that element.
+fn deref_elem<'a>(cell: VarCell, idx: Option<&'a str>) -> (VarCell, Option<Cow<'a, str>>) {
+    let target = match (&*cell.borrow(), idx) {
+        (Var::Elem(array, key), None) => Some((array.clone(), key.clone())),
+        _ => None,
+    };
+    match target {
+        Some((array, key)) => (array, Some(Cow::Owned(key.to_string()))),
+        None => (cell, idx.map(Cow::Borrowed)),
+    }
 }
 
 pub(crate) type VarCell = Rc<RefCell<Var>>;
@@ -131,6 +147,9 @@ pub(crate) struct Frame {
     /// Index of the frame whose variables the caller saw (for `upvar 1`).
     pub(crate) caller: usize,
     pub(crate) objv: Vec<Value>,
+    /// Names made links by `upvar`, `global` or `variable` (which `info
+    /// locals` leaves out).
+    pub(crate) links: Vec<Rc<str>>,
 }
 
 /// The `errorCode` of an interrupted script.
@@ -211,6 +230,7 @@ impl Interp {
                 level: 0,
                 caller: 0,
                 objv: Vec::new(),
+                links: Vec::new(),
             }],
             cur: 0,
             depth: 0,
@@ -652,7 +672,8 @@ impl Interp {
                 return Err(Exception::error(format!(
                     "invalid command name \"{}\"",
                     argv[0].as_str()
-                )));
+                ))
+                .with_error_code(&format!("TCL LOOKUP COMMAND {}", argv[0].as_str())));
             }
         };
         self.enter()?;
@@ -717,6 +738,7 @@ impl Interp {
             level,
             caller: self.cur,
             objv: argv.to_vec(),
+            links: Vec::new(),
         });
         let saved = self.cur;
         self.cur = self.frames.len() - 1;
@@ -747,7 +769,12 @@ impl Interp {
 
     /// Evaluates an expression held in a value (parsed form cached).
     pub fn eval_expr(&mut self, e: &Value) -> TclResult {
-        Ok(self.eval_expr_operand(e)?.into_value())
+        let v = self.eval_expr_operand(e)?.into_value();
+        if matches!(v.as_num(), Some(Num::Double(d)) if d.is_nan()) {
+            return Err(Exception::error("domain error: argument not in valid range")
+                .with_error_code("ARITH DOMAIN {domain error: argument not in valid range}"));
+        }
+        Ok(v)
     }
 
     pub(crate) fn eval_expr_operand(&mut self, e: &Value) -> Result<Operand, Exception> {
@@ -849,13 +876,17 @@ impl Interp {
             None => name.to_string(),
         };
         let Some(cell) = self.find_var(name) else {
-            return Err(Exception::error(format!("can't read \"{}\": no such variable", full())));
+            return Err(Exception::error(format!("can't read \"{}\": no such variable", full()))
+                .with_error_code(&format!("TCL LOOKUP VARNAME {name}")));
         };
+        let (cell, idx) = deref_elem(cell, idx);
+        let idx = idx.as_deref();
         let var = cell.borrow();
         match (&*var, idx) {
             (Var::Scalar(v), None) => Ok(v.clone()),
             (Var::Array(_), None) => {
-                Err(Exception::error(format!("can't read \"{name}\": variable is array")))
+                Err(Exception::error(format!("can't read \"{name}\": variable is array"))
+                    .with_error_code("TCL READ VARNAME"))
             }
             (Var::Array(a), Some(i)) => a.get(i).cloned().ok_or_else(|| {
                 Exception::error(format!("can't read \"{}\": no such element in array", full()))
@@ -863,8 +894,9 @@ impl Interp {
             (Var::Scalar(_), Some(_)) => {
                 Err(Exception::error(format!("can't read \"{}\": variable isn't array", full())))
             }
-            (Var::Undefined, _) => {
-                Err(Exception::error(format!("can't read \"{}\": no such variable", full())))
+            (Var::Undefined | Var::Elem(..), _) => {
+                Err(Exception::error(format!("can't read \"{}\": no such variable", full()))
+                    .with_error_code(&format!("TCL LOOKUP VARNAME {name}")))
             }
         }
     }
@@ -872,7 +904,8 @@ impl Interp {
     /// Sets a variable given as `name` or `name(index)`; returns the value.
     pub fn set_var(&mut self, name: &str, v: Value) -> TclResult {
         let (base, idx) = split_var_name(name);
-        let cell = self.var_cell(base);
+        let (cell, idx) = deref_elem(self.var_cell(base), idx);
+        let idx = idx.as_deref();
         let mut var = cell.borrow_mut();
         match idx {
             None => match &mut *var {
@@ -885,7 +918,7 @@ impl Interp {
                 }
             },
             Some(i) => match &mut *var {
-                Var::Scalar(_) => {
+                Var::Scalar(_) | Var::Elem(..) => {
                     Err(Exception::error(format!("can't set \"{name}\": variable isn't array")))
                 }
                 Var::Array(a) => {
@@ -911,7 +944,8 @@ impl Interp {
         f: &mut dyn FnMut(&mut Value) -> Result<(), Exception>,
     ) -> TclResult {
         let (base, idx) = split_var_name(name);
-        let cell = self.var_cell(base);
+        let (cell, idx) = deref_elem(self.var_cell(base), idx);
+        let idx = idx.as_deref();
         let mut var = cell.borrow_mut();
         let missing = || Exception::error(format!("can't read \"{name}\": no such variable"));
         let slot: &mut Value = match (&mut *var, idx) {
@@ -919,11 +953,12 @@ impl Interp {
             (Var::Array(_), None) => {
                 return Err(Exception::error(format!("can't set \"{name}\": variable is array")));
             }
-            (Var::Scalar(_), Some(_)) => {
+            (Var::Scalar(_) | Var::Elem(..), Some(_)) => {
                 return Err(Exception::error(format!(
                     "can't set \"{name}\": variable isn't array"
                 )));
             }
+            (Var::Elem(..), None) => unreachable!("deref_elem followed the link"),
             (Var::Array(a), Some(i)) => {
                 if !a.contains_key(i) {
                     a.insert(i.to_string(), init.ok_or_else(missing)?);
@@ -949,8 +984,22 @@ impl Interp {
 
     pub fn unset_var(&mut self, name: &str) -> Result<(), Exception> {
         let (base, idx) = split_var_name(name);
-        let err = || Exception::error(format!("can't unset \"{name}\": no such variable"));
-        let cell = self.find_var(base).ok_or_else(err)?;
+        let err = || {
+            Exception::error(format!("can't unset \"{name}\": no such variable"))
+                .with_error_code(&format!("TCL LOOKUP VARNAME {base}"))
+        };
+        let found = self.find_var(base).ok_or_else(err)?;
+        if idx.is_none() && matches!(*found.borrow(), Var::Elem(..)) {
+            // Unsetting the alias unsets the element; the alias stays.
+            let (array, key) = deref_elem(found, None);
+            let key = key.expect("an element link");
+            let mut var = array.borrow_mut();
+            return match &mut *var {
+                Var::Array(a) => a.shift_remove(&*key).map(|_| ()).ok_or_else(err),
+                _ => Err(err()),
+            };
+        }
+        let cell = found;
         let mut var = cell.borrow_mut();
         match (&mut *var, idx) {
             (Var::Undefined, _) => return Err(err()),
@@ -962,7 +1011,7 @@ impl Interp {
                 }
                 return Ok(());
             }
-            (Var::Scalar(_), Some(_)) => {
+            (Var::Scalar(_) | Var::Elem(..), Some(_)) => {
                 return Err(Exception::error(format!(
                     "can't unset \"{name}\": variable isn't array"
                 )));
@@ -970,14 +1019,21 @@ impl Interp {
             (slot, None) => *slot = Var::Undefined,
         }
         drop(var);
-        let (frame, local) = self.frame_for(base);
-        self.frames[frame].vars.remove(local.as_str());
+        // A variable another frame links to (`upvar`, `global`) stays as
+        // an undefined slot, so the link holds: setting it again sets the
+        // linked variable, as in Tcl.
+        if Rc::strong_count(&cell) <= 2 {
+            let (frame, local) = self.frame_for(base);
+            self.frames[frame].vars.remove(local.as_str());
+        }
         Ok(())
     }
 
     pub fn var_exists(&self, name: &str) -> bool {
         let (base, idx) = split_var_name(name);
         let Some(cell) = self.find_var(base) else { return false };
+        let (cell, idx) = deref_elem(cell, idx);
+        let idx = idx.as_deref();
         let var = cell.borrow();
         match (&*var, idx) {
             (Var::Scalar(_), None) | (Var::Array(_), None) => true,
@@ -1024,9 +1080,10 @@ impl Interp {
             Some(rest) => (0, rest),
             None => (frame, other),
         };
-        if split_var_name(other).1.is_some() {
+        let (other, elem) = split_var_name(other);
+        if split_var_name(local).1.is_some() {
             return Err(Exception::error(format!(
-                "can't upvar to array element \"{other}\" (not supported by rayshell)"
+                "bad variable name \"{local}\": can't create a scalar variable that looks like an array element"
             )));
         }
         let cell = match self.frames[frame].vars.get(other) {
@@ -1037,6 +1094,20 @@ impl Interp {
                 c
             }
         };
+        if let Some(k) = elem
+            && matches!(*cell.borrow(), Var::Scalar(_))
+        {
+            return Err(Exception::error(format!(
+                "can't access \"{other}({k})\": variable isn't array"
+            )));
+        }
+        let cell = match elem {
+            Some(k) => Rc::new(RefCell::new(Var::Elem(cell, Rc::from(k)))),
+            None => cell,
+        };
+        if frame == self.cur && elem.is_none() && other == local {
+            return Err(Exception::error("can't upvar from variable to itself"));
+        }
         if let Some(existing) = self.frames[self.cur].vars.get(local) {
             if Rc::ptr_eq(existing, &cell) {
                 return Ok(());
@@ -1045,7 +1116,9 @@ impl Interp {
                 return Err(Exception::error(format!("variable \"{local}\" already exists")));
             }
         }
-        self.frames[self.cur].vars.insert(Rc::from(local), cell);
+        let local: Rc<str> = Rc::from(local);
+        self.frames[self.cur].links.push(local.clone());
+        self.frames[self.cur].vars.insert(local, cell);
         Ok(())
     }
 

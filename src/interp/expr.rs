@@ -298,8 +298,10 @@ impl Operand {
         match self {
             Operand::Str(v) if v.as_str().is_empty() => {
                 Exception::error(format!("can't use empty string as operand of \"{op}\""))
+                    .with_error_code("ARITH DOMAIN {empty string}")
             }
-            _ => Exception::error(format!("can't use non-numeric string as operand of \"{op}\"")),
+            _ => Exception::error(format!("can't use non-numeric string as operand of \"{op}\""))
+                .with_error_code("ARITH DOMAIN {non-numeric string}"),
         }
     }
 
@@ -702,6 +704,10 @@ pub fn parse(src: &str, file: Option<Rc<str>>, first_line: u32) -> Result<Expr, 
 /// memory, far beyond what any scene needs.
 const MAX_BIG_BITS: u64 = 1 << 26;
 
+fn divide_by_zero() -> Exception {
+    Exception::error("divide by zero").with_error_code("ARITH DIVZERO {divide by zero}")
+}
+
 fn not_a_number() -> Exception {
     Exception::error("floating point value is Not a Number")
 }
@@ -712,7 +718,8 @@ fn too_large() -> Exception {
 
 fn check_double(d: f64) -> Result<Operand, Exception> {
     if d.is_nan() {
-        return Err(Exception::error("domain error: argument not in valid range"));
+        return Err(Exception::error("domain error: argument not in valid range")
+            .with_error_code("ARITH DOMAIN {domain error: argument not in valid range}"));
     }
     Ok(Operand::Dbl(d))
 }
@@ -814,7 +821,7 @@ fn int_arith(op: BinOp, x: &Num, y: &Num) -> Result<Operand, Exception> {
             BinOp::Mul => a.checked_mul(*b),
             _ => {
                 if *b == 0 {
-                    return Err(Exception::error("divide by zero"));
+                    return Err(divide_by_zero());
                 }
                 // Floor division; only MIN / -1 overflows.
                 a.checked_div(*b)
@@ -837,7 +844,7 @@ fn int_arith(op: BinOp, x: &Num, y: &Num) -> Result<Operand, Exception> {
         }
         _ => {
             if b.is_zero() {
-                return Err(Exception::error("divide by zero"));
+                return Err(divide_by_zero());
             }
             a.div_floor(&b)
         }
@@ -847,7 +854,7 @@ fn int_arith(op: BinOp, x: &Num, y: &Num) -> Result<Operand, Exception> {
 fn int_mod(x: &Num, y: &Num) -> Result<Operand, Exception> {
     if let (Num::Int(a), Num::Int(b)) = (x, y) {
         if *b == 0 {
-            return Err(Exception::error("divide by zero"));
+            return Err(divide_by_zero());
         }
         if *b == -1 {
             return Ok(Operand::Int(0));
@@ -856,7 +863,7 @@ fn int_mod(x: &Num, y: &Num) -> Result<Operand, Exception> {
     }
     let b = big(y);
     if b.is_zero() {
-        return Err(Exception::error("divide by zero"));
+        return Err(divide_by_zero());
     }
     Ok(from_big(big(x).mod_floor(&b)))
 }

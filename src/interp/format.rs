@@ -54,6 +54,17 @@ fn pad(spec: &Spec, body: String, numeric: bool) -> String {
     " ".repeat(fill) + &body
 }
 
+/// `%s` and `%c`: Tcl pads with zeros too when asked, on the side the
+/// text is not (`%05s` of ab is 000ab, `%-05s` is ab000).
+fn pad_text(spec: &Spec, body: String) -> String {
+    let len = body.chars().count();
+    if !spec.zero || len >= spec.width {
+        return pad(spec, body, false);
+    }
+    let zeros = "0".repeat(spec.width - len);
+    if spec.minus { body + &zeros } else { zeros + &body }
+}
+
 fn sign(spec: &Spec, neg: bool) -> &'static str {
     if neg {
         "-"
@@ -150,7 +161,14 @@ fn float_body(conv: char, x: f64, spec: &Spec) -> String {
             let s = format!("{:.*}", prec, a);
             if spec.alt && prec == 0 { s + "." } else { s }
         }
-        'e' | 'E' => exp_form(a, prec, conv == 'E'),
+        'e' | 'E' => {
+            let s = exp_form(a, prec, conv == 'E');
+            // `#` keeps the point even with no digits after it: `5.e+00`.
+            match s.find(['e', 'E']) {
+                Some(at) if spec.alt && prec == 0 => format!("{}.{}", &s[..at], &s[at..]),
+                _ => s,
+            }
+        }
         'a' | 'A' => format!("{a:e}"),
         _ => g_form(a, prec, spec.alt, conv == 'G'),
     };
@@ -279,14 +297,12 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
                     _ => mag.to_string(),
                 };
                 if let Some(p) = spec.precision {
-                    if p == 0 && mag.is_zero() {
-                        digits.clear();
-                    }
                     while digits.len() < p {
                         digits.insert(0, '0');
                     }
                 }
-                let prefix = match (spec.alt && !mag.is_zero(), conv) {
+                // Tcl writes the prefix for zero too (`0x0`), except `0` for octal.
+                let prefix = match (spec.alt && (!mag.is_zero() || conv != 'o'), conv) {
                     (true, 'o') => "0",
                     (true, 'x') => "0x",
                     (true, 'X') => "0X",
@@ -300,12 +316,15 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
                 } else {
                     ""
                 };
-                pad(&spec, format!("{sign}{prefix}{digits}"), spec.precision.is_none())
+                // Tcl zero-pads an integer on the left even with `-`.
+                let zero_left = spec.zero && spec.precision.is_none();
+                let spec = Spec { minus: spec.minus && !zero_left, ..spec };
+                pad(&spec, format!("{sign}{prefix}{digits}"), zero_left)
             }
             'c' => {
                 let v = get_int(&take_arg(&mut next_arg)?)?;
                 let ch = u32::try_from(v).ok().and_then(char::from_u32).unwrap_or('\u{fffd}');
-                pad(&spec, ch.to_string(), false)
+                pad_text(&spec, ch.to_string())
             }
             's' => {
                 let v = take_arg(&mut next_arg)?;
@@ -313,7 +332,7 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
                     Some(p) => v.as_str().chars().take(p).collect(),
                     None => v.as_str().to_string(),
                 };
-                pad(&spec, s, false)
+                pad_text(&spec, s)
             }
             'f' | 'F' | 'e' | 'E' | 'g' | 'G' | 'a' | 'A' => {
                 let x = get_double(&take_arg(&mut next_arg)?)?;

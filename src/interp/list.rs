@@ -55,7 +55,8 @@ pub fn parse_list(s: &str) -> Result<Vec<Value>, Exception> {
                     i += 1;
                 }
                 if i >= b.len() {
-                    return Err(Exception::error("unmatched open brace in list"));
+                    return Err(Exception::error("unmatched open brace in list")
+                        .with_error_code("TCL VALUE LIST BRACE"));
                 }
                 out.push(Value::from(&s[start..i]));
                 i += 1;

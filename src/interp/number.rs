@@ -296,13 +296,14 @@ pub fn int_error(s: &str) -> Exception {
     let octal_like = t.len() > 1
         && t.trim_start_matches(['+', '-']).starts_with('0')
         && t.trim_start_matches(['+', '-']).bytes().all(|c| c.is_ascii_digit());
-    if octal_like {
+    let e = if octal_like {
         Exception::error(format!(
             "expected integer but got \"{s}\" (looks like invalid octal number)"
         ))
     } else {
         Exception::error(format!("expected integer but got \"{s}\""))
-    }
+    };
+    e.with_error_code("TCL VALUE NUMBER")
 }
 
 /// Prints a double exactly as Tcl 8.6 does: the shortest digits that read

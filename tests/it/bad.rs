@@ -164,7 +164,7 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         "tri huge index",
         "vertex 0 0 0\ntri 0 0 99999999999999999999",
         1,
-        "tri: v3: expected number but got \"99999999999999999999\"",
+        "tri: v3: integer 99999999999999999999 is too large",
     ),
     ("ntri missing", "ntri 0 0 0 0 0", 1, "wrong # args: should be \"ntri v1 n1 v2 n2 v3 n3\""),
     (

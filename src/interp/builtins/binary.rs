@@ -29,6 +29,9 @@ enum Count {
 /// One field specifier: its letter, count and `u` (unsigned) flag.
 struct Field {
     cmd: char,
+    /// What a bad field is reported as: the first character after the
+    /// previous field (a blank, if blanks came between), as Tcl does.
+    shown: char,
     count: Count,
     unsigned: bool,
 }
@@ -40,6 +43,7 @@ fn fields(fmt: &str) -> Vec<Field> {
     let mut i = 0;
     let mut out = Vec::new();
     loop {
+        let shown = b.get(i).copied().unwrap_or(' ');
         while i < b.len() && b[i] == ' ' {
             i += 1;
         }
@@ -65,7 +69,7 @@ fn fields(fmt: &str) -> Vec<Field> {
         } else {
             Count::None
         };
-        out.push(Field { cmd, count, unsigned });
+        out.push(Field { cmd, shown, count, unsigned });
     }
 }
 
@@ -277,7 +281,7 @@ fn format(args: &[Value]) -> TclResult {
                     }
                 }
             }
-            c => return Err(bad_field(c)),
+            _ => return Err(bad_field(f.shown)),
         }
     }
     Ok(value_of(&out))
@@ -427,7 +431,7 @@ fn scan(interp: &mut Interp, args: &[Value]) -> TclResult {
                     }
                 }
             }
-            c => return Err(bad_field(c)),
+            _ => return Err(bad_field(f.shown)),
         };
         interp.set_var(args[arg].as_str(), value)?;
         arg += 1;
@@ -504,7 +508,8 @@ fn decode(kind: &str, args: &[Value]) -> TclResult {
     let strict = opts;
     let s: Vec<char> = data.as_str().chars().collect();
     let invalid = |c: char, at: usize| {
-        Exception::error(format!("invalid {kind} character \"{c}\" at position {at}"))
+        let what = if kind == "hex" { "hexadecimal digit" } else { "base64 character" };
+        Exception::error(format!("invalid {what} \"{c}\" at position {at}"))
             .with_error_code("TCL BINARY DECODE INVALID")
     };
     let mut out = Vec::new();

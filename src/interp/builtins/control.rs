@@ -95,7 +95,54 @@ fn loop_body(r: TclResult) -> Result<Flow, Exception> {
     }
 }
 
+/// The shape of an `if` command, checked before any of it runs, as Tcl
+/// (which compiles it whole) does: `if 1 {} elwood {}` is an error even
+/// though its first branch would be taken.
+fn check_if(argv: &[Value]) -> Result<(), Exception> {
+    let mut i = 1;
+    loop {
+        if i >= argv.len() {
+            return Err(Exception::error(format!(
+                "wrong # args: no expression after \"{}\" argument",
+                argv[i - 1].as_str()
+            )));
+        }
+        i += 1;
+        if i < argv.len() && argv[i].as_str() == "then" {
+            i += 1;
+        }
+        if i >= argv.len() {
+            return Err(Exception::error(format!(
+                "wrong # args: no script following \"{}\" argument",
+                argv[i - 1].as_str()
+            )));
+        }
+        i += 1;
+        match argv.get(i).map(Value::as_str) {
+            None => return Ok(()),
+            Some("elseif") => i += 1,
+            Some(word) => {
+                if word == "else" {
+                    i += 1;
+                    if i >= argv.len() {
+                        return Err(Exception::error(
+                            "wrong # args: no script following \"else\" argument",
+                        ));
+                    }
+                }
+                if i + 1 < argv.len() {
+                    return Err(Exception::error(
+                        "wrong # args: extra words after \"else\" clause in \"if\" command",
+                    ));
+                }
+                return Ok(());
+            }
+        }
+    }
+}
+
 fn cmd_if(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    check_if(argv)?;
     let mut i = 1;
     loop {
         if i >= argv.len() {
@@ -175,7 +222,11 @@ fn cmd_for(interp: &mut Interp, argv: &[Value]) -> TclResult {
         if let Flow::Stop = loop_body(interp.eval_inline(&argv[4]))? {
             break;
         }
-        interp.eval_inline(&argv[3])?;
+        // `break` in the next clause ends the loop, as in Tcl.
+        match interp.eval_inline(&argv[3]) {
+            Err(e) if e.code == Code::Break => break,
+            r => r?,
+        };
     }
     Ok(Value::empty())
 }
@@ -1103,10 +1154,12 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
             if sub == "locals" && interp.level() == 0 {
                 return Ok(Value::empty());
             }
+            let links = &interp.frames[frame].links;
             let mut names: Vec<String> = interp.frames[frame]
                 .vars
                 .iter()
                 .filter(|(_, c)| !matches!(*c.borrow(), Var::Undefined))
+                .filter(|(k, _)| sub != "locals" || !links.contains(k))
                 .map(|(k, _)| k.to_string())
                 .collect();
             names.sort();
@@ -1117,7 +1170,11 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
             if args.len() > 1 {
                 return Err(usage("?pattern?"));
             }
-            let names = crate::interp::expr::Func::NAMES.iter().map(|n| n.to_string()).collect();
+            let names = interp
+                .command_names()
+                .into_iter()
+                .filter_map(|k| k.strip_prefix("tcl::mathfunc::").map(str::to_string))
+                .collect();
             Ok(filter(names, args.first()))
         }
         "library" => {

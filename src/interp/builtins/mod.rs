@@ -81,6 +81,7 @@ pub(crate) fn parse_index(v: &Value, len: usize) -> Result<i64, Exception> {
             "bad index \"{}\": must be integer?[+-]integer? or end?[+-]integer?",
             v.as_str()
         ))
+        .with_error_code("TCL VALUE INDEX")
     };
     let int = |t: &str| super::number::parse_int(t).filter(|_| !t.trim().is_empty());
     if let Some(rest) = s.strip_prefix("end") {

@@ -276,10 +276,9 @@ fn scan_int(s: &[char], width: usize, ch: char) -> Option<(BigInt, usize)> {
         'd' | 'u' => digits_from(i, 10)?,
         'x' | 'X' => prefixed(i, ['x', 'X'], 16).or_else(|| digits_from(i, 16))?,
         'b' => prefixed(i, ['b', 'B'], 2).or_else(|| digits_from(i, 2))?,
-        'o' => prefixed(i, ['o', 'O'], 8).or_else(|| digits_from(i, 8))?,
+        'o' => digits_from(i, 8)?,
+        // As C's strtol: `0x` for hex, a leading 0 for octal.
         _ => prefixed(i, ['x', 'X'], 16)
-            .or_else(|| prefixed(i, ['b', 'B'], 2))
-            .or_else(|| prefixed(i, ['o', 'O'], 8))
             .or_else(|| if s.get(i) == Some(&'0') { digits_from(i, 8) } else { None })
             .or_else(|| digits_from(i, 10))?,
     };
@@ -296,7 +295,7 @@ fn scan_float(s: &[char], width: usize) -> Option<(f64, usize)> {
         i += 1;
     }
     let word: String = s[i..].iter().take(8).collect::<String>().to_ascii_lowercase();
-    for (w, v) in [("infinity", f64::INFINITY), ("inf", f64::INFINITY), ("nan", f64::NAN)] {
+    for (w, v) in [("infinity", f64::INFINITY), ("inf", f64::INFINITY)] {
         if word.starts_with(w) {
             let v = if s.first() == Some(&'-') { -v } else { v };
             return Some((v, i + w.len()));
