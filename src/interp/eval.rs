@@ -107,6 +107,19 @@ pub struct Proc {
 }
 
 /// What the interpreter needs from the outside world.
+/// What a script asks of a file, for the host's policy.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Access {
+    Read,
+    Write,
+    /// Deleting, renaming, making directories, changing directory,
+    /// running programs.
+    Modify,
+}
+
+/// A host's file policy: `Err(message)` refuses.
+pub type FsPolicy = Box<dyn Fn(&str, Access) -> Result<(), String>>;
+
 pub trait Host {
     fn stdout(&mut self, s: &str) -> std::io::Result<()>;
     fn stderr(&mut self, s: &str) -> std::io::Result<()>;
@@ -195,6 +208,10 @@ pub struct Interp {
     pub executable: String,
     /// `interp alias`: each alias's target words.
     pub(crate) aliases: BTreeMap<String, Vec<Value>>,
+    /// Open files (`open`, `gets`...).
+    pub(crate) channels: super::builtins::Channels,
+    /// What the host allows scripts to read and write (`--safe`).
+    fs_policy: Option<FsPolicy>,
 }
 
 fn truncate_cmd(text: &str) -> String {
@@ -251,6 +268,8 @@ impl Interp {
             exports: BTreeMap::new(),
             executable: String::new(),
             aliases: BTreeMap::new(),
+            channels: Default::default(),
+            fs_policy: None,
         };
         interp.seed_rand(0);
         super::builtins::register_all(&mut interp);
@@ -451,7 +470,24 @@ impl Interp {
 
     /// Flushes buffered output; a failure shows at the end (`flush_checked`).
     pub fn flush(&mut self) {
+        self.channels.flush_all();
         let _ = self.host.flush();
+    }
+
+    /// Fences file access: `policy(path, access)` is asked before a script
+    /// reads or writes a file, and its error message is the script's.
+    pub fn set_fs_policy(&mut self, policy: FsPolicy) {
+        self.fs_policy = Some(policy);
+    }
+
+    /// Whether the host's policy lets scripts reach `path`.
+    pub fn check_access(&self, path: &str, access: Access) -> Result<(), Exception> {
+        match &self.fs_policy {
+            Some(p) => p(path, access).map_err(|why| {
+                Exception::error(why).with_error_code("TCL SAFE ACCESS")
+            }),
+            None => Ok(()),
+        }
     }
 
     /// Flushes buffered output, as an error if it cannot be written (the

@@ -18,7 +18,7 @@ mod value;
 
 pub use builtins::subcommands;
 pub use error::{Code, Exception, Loc, TclResult};
-pub use eval::{Host, INTERRUPT_CODE, Interp, MAX_LIST_LEN, MAX_VALUE_LEN};
+pub use eval::{Access, FsPolicy, Host, INTERRUPT_CODE, Interp, MAX_LIST_LEN, MAX_VALUE_LEN};
 pub use number::{Num, format_double, parse_double};
 pub use parser::is_complete;
 pub use value::Value;

@@ -238,15 +238,6 @@ fn set_environment(interp: &mut Interp) {
 fn register_shell_commands(interp: &mut Interp) {
     set_environment(interp);
     interp.register_host(
-        "file",
-        "subcommand name ?arg ...?",
-        "dirname, tail, join, extension, rootname, exists, readable",
-        |_, argv| {
-            crate::interp::check_args(argv, 3, usize::MAX, "subcommand name ?arg ...?")?;
-            file_command(argv)
-        },
-    );
-    interp.register_host(
         "help",
         "?command?",
         "list commands, or show one command's usage",
@@ -255,74 +246,6 @@ fn register_shell_commands(interp: &mut Interp) {
             Ok(Value::from_string(help_text(interp, argv.get(1).map(|v| v.as_str()))?))
         },
     );
-}
-
-/// The `file` subcommands rayshell has.
-pub(crate) const FILE_SUBCOMMANDS: &[&str] =
-    &["dirname", "exists", "extension", "join", "readable", "rootname", "tail"];
-
-fn file_command(argv: &[Value]) -> Result<Value, Exception> {
-    use std::path::Path;
-    let name = argv[2].as_str();
-    let one = |v: &str| -> Result<(), Exception> {
-        if argv.len() != 3 {
-            return Err(Exception::wrong_args(&format!("file {v} name")));
-        }
-        Ok(())
-    };
-    let p = Path::new(name);
-    let s = |x: Option<&std::ffi::OsStr>| {
-        x.map(|o| o.to_string_lossy().into_owned()).unwrap_or_default()
-    };
-    Ok(match argv[1].as_str() {
-        "dirname" => {
-            one("dirname")?;
-            match p.parent() {
-                Some(d) if !d.as_os_str().is_empty() => Value::from(d.to_string_lossy().as_ref()),
-                _ if name.starts_with('/') => Value::from("/"),
-                _ => Value::from("."),
-            }
-        }
-        "tail" => {
-            one("tail")?;
-            Value::from_string(s(p.file_name()))
-        }
-        "extension" => {
-            one("extension")?;
-            Value::from_string(
-                p.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default(),
-            )
-        }
-        "rootname" => {
-            one("rootname")?;
-            match p.extension() {
-                Some(e) => Value::from(&name[..name.len() - e.len() - 1]),
-                None => argv[2].clone(),
-            }
-        }
-        "join" => {
-            let mut out = std::path::PathBuf::new();
-            for part in &argv[2..] {
-                out.push(part.as_str());
-            }
-            Value::from(out.to_string_lossy().as_ref())
-        }
-        "exists" => {
-            one("exists")?;
-            Value::from_bool(p.exists())
-        }
-        "readable" => {
-            one("readable")?;
-            Value::from_bool(std::fs::File::open(p).is_ok())
-        }
-        other => {
-            let (last, rest) = FILE_SUBCOMMANDS.split_last().expect("not empty");
-            return Err(Exception::error(format!(
-                "bad option \"{other}\": must be {}, or {last}",
-                rest.join(", ")
-            )));
-        }
-    })
 }
 
 pub fn help_text(interp: &Interp, name: Option<&str>) -> Result<String, Exception> {

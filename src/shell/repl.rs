@@ -30,7 +30,6 @@ struct ShellHelper {
 /// ensembles, and the shell's own.
 fn subcommands(command: &str) -> Option<&'static [&'static str]> {
     crate::interp::subcommands(command).or(match command {
-        "file" => Some(super::FILE_SUBCOMMANDS),
         "preview" => Some(&["on", "off", "term"]),
         _ => None,
     })

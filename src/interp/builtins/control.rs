@@ -958,6 +958,7 @@ fn cmd_uplevel(interp: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_source(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, 2, "fileName")?;
     let path = argv[1].as_str();
+    interp.check_access(path, crate::interp::Access::Read)?;
     let src = interp.host.read_file(path).map_err(|e| {
         let why = match e.kind() {
             std::io::ErrorKind::NotFound => "no such file or directory".to_string(),

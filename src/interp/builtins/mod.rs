@@ -2,8 +2,10 @@
 //! the usage line each one reports in `wrong # args` and in `help`.
 
 mod binary;
+mod chan;
 mod control;
 mod dict;
+mod file;
 mod lists;
 mod mathop;
 mod namespace;
@@ -20,10 +22,12 @@ pub fn subcommands(command: &str) -> Option<&'static [&'static str]> {
         "string" => Some(strings::SUBCOMMANDS),
         "info" => Some(control::INFO_SUBCOMMANDS),
         "array" => Some(vars::ARRAY_SUBCOMMANDS),
+        "file" => Some(file::SUBCOMMANDS),
         _ => None,
     }
 }
 
+pub(crate) use chan::Channels;
 pub(crate) use control::with_body_line;
 pub use package::{Packages, TCL_PATCHLEVEL, TCL_VERSION};
 
@@ -34,10 +38,12 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 10] = [
+    let tables: [&[Entry]; 12] = [
         binary::COMMANDS,
+        chan::COMMANDS,
         control::COMMANDS,
         dict::COMMANDS,
+        file::COMMANDS,
         vars::COMMANDS,
         lists::COMMANDS,
         strings::COMMANDS,

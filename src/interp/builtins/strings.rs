@@ -508,7 +508,7 @@ fn cmd_puts(interp: &mut Interp, argv: &[Value]) -> TclResult {
     match chan {
         "stdout" => interp.write_stdout(&s)?,
         "stderr" => interp.write_stderr(&s)?,
-        other => return Err(Exception::error(format!("can not find channel named \"{other}\""))),
+        other => super::chan::write_to(interp, other, &s)?,
     }
     Ok(Value::empty())
 }
