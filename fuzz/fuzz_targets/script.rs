@@ -13,6 +13,15 @@ fuzz_target!(|data: &[u8]| {
         let dir = std::env::temp_dir().join("rayshell-fuzz-out");
         std::fs::create_dir_all(&dir).unwrap();
         std::env::set_current_dir(&dir).unwrap();
+        // Scripts may `open`, `file delete` and `cd`: fence every file
+        // access into the scratch directory (`--safe`'s machinery).
+        let d = vec![dir.clone()];
+        rayshell::shell::safe::install(rayshell::shell::safe::Policy {
+            read: d.clone(),
+            write: d.clone(),
+            modify: d.clone(),
+            images: d,
+        });
     });
     let src = String::from_utf8_lossy(data);
     let mut session = Session::new(Box::new(CaptureHost::default()));

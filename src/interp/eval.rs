@@ -115,6 +115,8 @@ pub enum Access {
     /// Deleting, renaming, making directories, changing directory,
     /// running programs.
     Modify,
+    /// An image the host writes for the script (`render`).
+    Image,
 }
 
 /// A host's file policy: `Err(message)` refuses.
@@ -483,9 +485,8 @@ impl Interp {
     /// Whether the host's policy lets scripts reach `path`.
     pub fn check_access(&self, path: &str, access: Access) -> Result<(), Exception> {
         match &self.fs_policy {
-            Some(p) => p(path, access).map_err(|why| {
-                Exception::error(why).with_error_code("TCL SAFE ACCESS")
-            }),
+            Some(p) => p(path, access)
+                .map_err(|why| Exception::error(why).with_error_code("TCL SAFE ACCESS")),
             None => Ok(()),
         }
     }

@@ -86,6 +86,14 @@ pub struct Cli {
     /// memory, and at most half of what `ulimit -v` leaves].
     #[arg(long, value_name = "SIZE", value_parser = super::budget::parse_size)]
     pub max_memory: Option<u64>,
+    /// Run an untrusted scene: no file writes, deletes or renames, no `cd`;
+    /// reads only under the scene's directory and --allow-read DIRs;
+    /// `render` writes only inside the output file's directory.
+    #[arg(long)]
+    pub safe: bool,
+    /// With --safe, a directory the scene may also read (repeatable).
+    #[arg(long, value_name = "DIR", requires = "safe")]
+    pub allow_read: Vec<PathBuf>,
     /// Arguments for the script, after `--` (`$argv`, `$argc`).
     #[arg(last = true)]
     pub args: Vec<String>,

@@ -655,6 +655,7 @@ fn mesh_command(b: &mut Builder, argv: &[Value]) -> Result<Value, Exception> {
         }
     }
     let path = argv[1].as_str().to_string();
+    super::safe::check_read(&path)?;
     let p = path.clone();
     let data = super::feedback::blocking(&path, move || super::obj::load(&p))
         .map_err(|_| super::interrupted())?
@@ -701,6 +702,8 @@ fn render_command(
         }
     }
     let path = argv[argv.len() - 1].as_str();
+    super::safe::check(path, crate::interp::Access::Image)
+        .map_err(|m| Exception::error(m).with_error_code("TCL SAFE ACCESS"))?;
     let format = Format::from_path(path).ok_or_else(|| {
         Exception::error(format!(
             "unknown image format for \"{path}\": the name must end in .ppm, .png or .pfm"
@@ -945,6 +948,7 @@ fn show_command(
     }
     let (rgb, w, h) = match file {
         Some(path) => {
+            super::safe::check_read(&path)?;
             let bytes = std::fs::read(&path).map_err(|e| {
                 Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
             })?;

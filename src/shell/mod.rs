@@ -35,6 +35,7 @@ mod nff;
 pub mod obj;
 mod preview;
 pub mod repl;
+pub mod safe;
 mod stats;
 mod structure;
 mod surface;
@@ -193,6 +194,9 @@ pub struct Session {
 impl Session {
     pub fn new(host: Box<dyn Host>) -> Session {
         let mut interp = Interp::new(host);
+        if safe::active() {
+            interp.set_fs_policy(Box::new(safe::check));
+        }
         register_shell_commands(&mut interp);
         let scene = Rc::new(RefCell::new(crate::scene::Builder::new()));
         let state = Rc::new(RefCell::new(stats::ShellState::default()));
@@ -427,6 +431,28 @@ fn new_session(cli: &Cli) -> Result<Session, String> {
     Ok(session)
 }
 
+/// What `--safe` lets a scene reach: reads under its own directory, the
+/// `--allow-read` ones and the output directory; images in the output
+/// directory (the output file's, else the current one); nothing else.
+fn safe_policy(cli: &Cli) -> safe::Policy {
+    let dir_of = |p: &std::path::Path| match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let output = match (&cli.command, &cli.script, &cli.output) {
+        (Some(_), Some(out), None) => Some(out),
+        (_, _, out) => out.as_ref(),
+    };
+    let out_dir = output.map_or_else(|| std::path::PathBuf::from("."), |o| dir_of(o));
+    let mut read: Vec<std::path::PathBuf> = cli.allow_read.clone();
+    match (&cli.command, &cli.script) {
+        (None, Some(s)) => read.push(dir_of(s)),
+        _ => read.push(std::path::PathBuf::from(".")),
+    }
+    read.push(out_dir.clone());
+    safe::Policy { read, images: vec![out_dir], ..Default::default() }
+}
+
 fn run(cli: Cli) -> i32 {
     let done = |r: Result<(), (i32, String)>| match r {
         Ok(()) => 0,
@@ -440,6 +466,9 @@ fn run(cli: Cli) -> i32 {
     }
     if let Some(paths) = &cli.movie {
         return done(frames::movie(&paths[0], &paths[1..], cli.fps));
+    }
+    if cli.safe {
+        safe::install(safe_policy(&cli));
     }
     if cli.frames.is_some() {
         return frames::run_batch(&cli);

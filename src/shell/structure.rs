@@ -203,6 +203,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
         move |_, argv| {
             check_args(argv, 2, 2, "fileName")?;
             let path = argv[1].as_str().to_string();
+            super::safe::check_read(&path)?;
             let f = std::fs::File::open(&path).map_err(|e| {
                 Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
             })?;

@@ -45,6 +45,7 @@ fn image_texture(scene: &Shared, argv: &[Value]) -> Result<Texture, Exception> {
 
 /// Reads an image file into the scene's images: its number and itself.
 fn load_image(scene: &Shared, path: &str) -> Result<(u32, Arc<Image>), Exception> {
+    super::safe::check_read(path)?;
     let data = std::fs::read(path).map_err(|e| {
         Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
     })?;

@@ -15,6 +15,7 @@ mod path;
 mod pov;
 mod readme;
 mod render;
+mod safe;
 mod sampling;
 mod shapes;
 mod surfaces;
@@ -104,6 +105,7 @@ fn main() {
         bad::the_repl_survives_every_bad_input,
         bad::the_repl_keeps_its_session_past_the_memory_budget,
         bad::hostile_renders_finish_under_a_memory_cap,
+        safe::every_fence_holds,
         cli::dash_c_and_stdin,
         cli::argv_like_tclsh,
         cli::options,

@@ -118,6 +118,12 @@ impl FileChan {
 
     /// Reads more bytes into the buffer; false at the end of the file.
     fn fill(&mut self) -> std::io::Result<bool> {
+        // A line or a read without end (`/dev/zero`) stops at the value cap.
+        if self.rbuf.len() - self.rpos > crate::interp::MAX_VALUE_LEN {
+            return Err(std::io::Error::other("string too long"));
+        }
+        crate::interp::eval::check_len(self.rbuf.len() + 8192)
+            .map_err(|e| std::io::Error::other(e.message().to_string()))?;
         if self.rpos > 0 {
             self.rbuf.drain(..self.rpos);
             self.rpos = 0;
@@ -277,11 +283,7 @@ impl FileChan {
 /// Parses an access mode: `r w a` with `+` and `b`, or a list of POSIX
 /// flags. Returns (read, write, append, create, truncate, exclusive, binary).
 fn parse_access(mode: &str) -> Result<[bool; 7], Exception> {
-    let bad = || {
-        Exception::error(format!(
-            "illegal access mode \"{mode}\"",
-        ))
-    };
+    let bad = || Exception::error(format!("illegal access mode \"{mode}\"",));
     let m = mode.trim();
     if m.chars().next().is_some_and(|c| c.is_ascii_uppercase()) {
         let mut f = [false; 7];
@@ -383,7 +385,8 @@ fn cmd_close(interp: &mut Interp, argv: &[Value]) -> TclResult {
         return Ok(Value::empty());
     }
     let mut c = interp.channels.files.remove(name).ok_or_else(|| no_channel(name))?;
-    c.flush().map_err(|e| Exception::error(format!("error flushing \"{name}\": {}", io_error(&e))))?;
+    c.flush()
+        .map_err(|e| Exception::error(format!("error flushing \"{name}\": {}", io_error(&e))))?;
     Ok(Value::empty())
 }
 
@@ -410,9 +413,7 @@ fn stdin_line(interp: &mut Interp) -> Option<String> {
 
 fn readable<'a>(interp: &'a mut Interp, name: &str) -> Result<&'a mut FileChan, Exception> {
     if matches!(name, "stdout" | "stderr") {
-        return Err(Exception::error(format!(
-            "channel \"{name}\" wasn't opened for reading"
-        )));
+        return Err(Exception::error(format!("channel \"{name}\" wasn't opened for reading")));
     }
     let c = interp.channels.get(name)?;
     if !c.readable {
@@ -428,7 +429,8 @@ fn cmd_gets(interp: &mut Interp, argv: &[Value]) -> TclResult {
         stdin_line(interp)
     } else {
         let c = readable(interp, name)?;
-        c.gets().map_err(|e| Exception::error(format!("error reading \"{name}\": {}", io_error(&e))))?
+        c.gets()
+            .map_err(|e| Exception::error(format!("error reading \"{name}\": {}", io_error(&e))))?
     };
     match argv.get(2) {
         Some(var) => {
@@ -446,11 +448,21 @@ fn cmd_read(interp: &mut Interp, argv: &[Value]) -> TclResult {
         [_, f, c] if f.as_str() == "-nonewline" => (true, c, None),
         [_, c, n] => {
             let k = n.as_int().map_err(|_| {
-                Exception::error(format!("expected non-negative integer but got \"{}\"", n.as_str()))
+                Exception::error(format!(
+                    "expected non-negative integer but got \"{}\"",
+                    n.as_str()
+                ))
             })?;
-            (false, c, Some(usize::try_from(k).map_err(|_| {
-                Exception::error(format!("expected non-negative integer but got \"{}\"", n.as_str()))
-            })?))
+            (
+                false,
+                c,
+                Some(usize::try_from(k).map_err(|_| {
+                    Exception::error(format!(
+                        "expected non-negative integer but got \"{}\"",
+                        n.as_str()
+                    ))
+                })?),
+            )
         }
         [_, c] => (false, c, None),
         _ => unreachable!("checked"),
@@ -485,7 +497,8 @@ pub(crate) fn write_to(interp: &mut Interp, name: &str, s: &str) -> Result<(), E
     }
     c.write(s);
     if c.wbuf.len() >= 1 << 16 {
-        c.flush().map_err(|e| Exception::error(format!("error writing \"{name}\": {}", io_error(&e))))?;
+        c.flush()
+            .map_err(|e| Exception::error(format!("error writing \"{name}\": {}", io_error(&e))))?;
     }
     Ok(())
 }
@@ -606,9 +619,8 @@ fn cmd_fconfigure(interp: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn cmd_chan(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;
-    let subs = [
-        "close", "configure", "eof", "flush", "gets", "names", "puts", "read", "seek", "tell",
-    ];
+    let subs =
+        ["close", "configure", "eof", "flush", "gets", "names", "puts", "read", "seek", "tell"];
     let sub = pick_subcommand(argv[1].as_str(), &subs)?;
     let mut rest = vec![Value::from(sub)];
     rest.extend_from_slice(&argv[2..]);
@@ -627,7 +639,9 @@ fn cmd_chan(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 ["stderr", "stdin", "stdout"].iter().map(|s| Value::from(*s)).collect();
             names.extend(interp.channels.files.keys().map(|k| Value::from(k.as_str())));
             let pattern = argv.get(2).map(|p| p.as_str().to_string());
-            names.retain(|n| pattern.as_deref().is_none_or(|p| super::glob_match(p, n.as_str(), false)));
+            names.retain(|n| {
+                pattern.as_deref().is_none_or(|p| super::glob_match(p, n.as_str(), false))
+            });
             Ok(Value::from_list(names))
         }
     }

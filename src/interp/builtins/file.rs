@@ -181,7 +181,9 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
             let n = one("name")?;
             Value::from(&n[..n.len() - extension(n).len()])
         }
-        "split" => Value::from_list(split(one("name")?).into_iter().map(Value::from_string).collect()),
+        "split" => {
+            Value::from_list(split(one("name")?).into_iter().map(Value::from_string).collect())
+        }
         "join" => {
             if a.is_empty() {
                 return Err(Exception::wrong_args("file join name ?name ...?"));
@@ -268,9 +270,8 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
             };
             match rest {
                 [l] => {
-                    let t = std::fs::read_link(l.as_str()).map_err(|e| {
-                        file_error("read link", l.as_str(), &e)
-                    })?;
+                    let t = std::fs::read_link(l.as_str())
+                        .map_err(|e| file_error("read link", l.as_str(), &e))?;
                     Value::from(t.to_string_lossy().as_ref())
                 }
                 [l, t] => {
@@ -289,7 +290,9 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
         "attributes" => {
             use std::os::unix::fs::PermissionsExt;
             let Some((n, rest)) = a.split_first() else {
-                return Err(Exception::wrong_args("file attributes name ?-option? ?value? ?-option value ...?"));
+                return Err(Exception::wrong_args(
+                    "file attributes name ?-option? ?value? ?-option value ...?",
+                ));
             };
             let m = metadata(n.as_str(), true)?;
             let perms = Value::from(format!("{:05o}", m.permissions().mode() & 0o7777));
@@ -300,8 +303,11 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
                     interp.check_access(n.as_str(), Access::Modify)?;
                     let mode = crate::interp::number::parse_int(v.as_str())
                         .ok_or_else(|| crate::interp::number::int_error(v.as_str()))?;
-                    std::fs::set_permissions(n.as_str(), std::fs::Permissions::from_mode(mode as u32))
-                        .map_err(|e| file_error("set permissions of", n.as_str(), &e))?;
+                    std::fs::set_permissions(
+                        n.as_str(),
+                        std::fs::Permissions::from_mode(mode as u32),
+                    )
+                    .map_err(|e| file_error("set permissions of", n.as_str(), &e))?;
                     Value::empty()
                 }
                 [o, ..] => {
@@ -407,7 +413,8 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
             interp.check_access(to, Access::Modify)?;
             for f in from {
                 let f = f.as_str();
-                interp.check_access(f, if sub == "copy" { Access::Read } else { Access::Modify })?;
+                interp
+                    .check_access(f, if sub == "copy" { Access::Read } else { Access::Modify })?;
                 let target = if Path::new(to).is_dir() {
                     Path::new(to).join(tail(f))
                 } else {
@@ -497,12 +504,14 @@ fn matches_in(dir: &Path, pattern: &str) -> Vec<String> {
         return Vec::new();
     };
     // `.*` finds `.` and `..` too, as in Tcl.
-    let dots = ["." , ".."].map(String::from);
+    let dots = [".", ".."].map(String::from);
     let mut out: Vec<String> = rd
         .filter_map(|e| e.ok())
         .map(|e| e.file_name().to_string_lossy().into_owned())
         .chain(dots)
-        .filter(|n| (!n.starts_with('.') || pattern.starts_with('.')) && glob_match(pattern, n, false))
+        .filter(|n| {
+            (!n.starts_with('.') || pattern.starts_with('.')) && glob_match(pattern, n, false)
+        })
         .collect();
     out.sort();
     out
@@ -624,7 +633,9 @@ fn cmd_glob(interp: &mut Interp, argv: &[Value]) -> TclResult {
         return Err(Exception::wrong_args("glob ?-option ...? pattern ?pattern ...?"));
     }
     let base = dir.clone().unwrap_or_default();
-    interp.check_access(if base.is_empty() { "." } else { &base }, Access::Read)?;
+    if !base.is_empty() {
+        interp.check_access(&base, Access::Read)?;
+    }
     let mut out = Vec::new();
     for pat in &patterns {
         for p in braces(pat) {
@@ -634,13 +645,14 @@ fn cmd_glob(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 } else {
                     format!("{}/{m}", base.trim_end_matches('/'))
                 };
-                let ok = types.is_empty()
-                    || types.iter().any(|t| match t.as_str() {
-                        "d" => Path::new(&full).is_dir(),
-                        "f" => Path::new(&full).is_file(),
-                        "l" => Path::new(&full).is_symlink(),
-                        _ => false,
-                    });
+                let ok = interp.check_access(&full, Access::Read).is_ok()
+                    && (types.is_empty()
+                        || types.iter().any(|t| match t.as_str() {
+                            "d" => Path::new(&full).is_dir(),
+                            "f" => Path::new(&full).is_file(),
+                            "l" => Path::new(&full).is_symlink(),
+                            _ => false,
+                        }));
                 if ok {
                     out.push(Value::from_string(if tails { m } else { full }));
                 }
@@ -684,8 +696,11 @@ fn cmd_cd(interp: &mut Interp, argv: &[Value]) -> TclResult {
     };
     interp.check_access(&dir, Access::Modify)?;
     std::env::set_current_dir(&dir).map_err(|e| {
-        Exception::error(format!("couldn't change working directory to \"{dir}\": {}", posix_msg(&e)))
-            .with_error_code(&posix_code(&e))
+        Exception::error(format!(
+            "couldn't change working directory to \"{dir}\": {}",
+            posix_msg(&e)
+        ))
+        .with_error_code(&posix_code(&e))
     })?;
     Ok(Value::empty())
 }
