@@ -60,6 +60,43 @@ pub(crate) fn register_all(interp: &mut Interp) {
     mathop::register(interp);
 }
 
+/// Tcl's string hash (`TclHashObjKey`): `h = h*9 + byte`.
+fn tcl_hash(key: &str) -> u32 {
+    let b = key.as_bytes();
+    let Some((&first, rest)) = b.split_first() else { return 0 };
+    rest.iter().fold(first as u32, |h, &c| h.wrapping_add(h << 3).wrapping_add(c as u32))
+}
+
+/// Keys in the order Tcl's hash table lists them, given the order they
+/// were inserted: the table starts with 4 buckets, grows fourfold when it
+/// holds 3 entries per bucket (re-inserting chain by chain), puts a new
+/// entry at the head of its bucket's chain, and is walked bucket by
+/// bucket. `array names` and `array get` print in this order, as tclsh
+/// does (exactly so while nothing was deleted: deletions here are
+/// forgotten, where Tcl's table keeps the size they left).
+pub(crate) fn tcl_hash_order<'a, T>(items: impl IntoIterator<Item = (&'a str, T)>) -> Vec<T> {
+    let mut buckets: Vec<Vec<(u32, T)>> = (0..4).map(|_| Vec::new()).collect();
+    let (mut mask, mut rebuild_at, mut n) = (3u32, 12usize, 0usize);
+    for (key, item) in items {
+        let h = tcl_hash(key);
+        // A chain is kept with its head last.
+        buckets[(h & mask) as usize].push((h, item));
+        n += 1;
+        if n >= rebuild_at {
+            let old = std::mem::take(&mut buckets);
+            buckets = (0..old.len() * 4).map(|_| Vec::new()).collect();
+            mask = (mask << 2) | 3;
+            rebuild_at *= 4;
+            for chain in old {
+                for (h, item) in chain.into_iter().rev() {
+                    buckets[(h & mask) as usize].push((h, item));
+                }
+            }
+        }
+    }
+    buckets.into_iter().flat_map(|chain| chain.into_iter().rev().map(|(_, item)| item)).collect()
+}
+
 /// Checks the argument count: `min..=max` words including the command name.
 pub(crate) fn check_args(
     argv: &[Value],

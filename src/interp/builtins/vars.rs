@@ -148,19 +148,22 @@ fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let args = &argv[3..];
     let cell = interp.find_var(name);
     let is_array = cell.as_ref().is_some_and(|c| matches!(*c.borrow(), Var::Array(_)));
-    let matching = |pattern: Option<&Value>| -> Vec<(String, Value)> {
+    // Elements in Tcl's hash order, those the pattern takes.
+    let matching = |pattern: &dyn Fn(&str) -> bool| -> Vec<(String, Value)> {
         match &cell {
             Some(c) => match &*c.borrow() {
-                Var::Array(a) => a
-                    .iter()
-                    .filter(|(k, _)| pattern.is_none_or(|p| glob_match(p.as_str(), k, false)))
-                    .map(|(k, v)| (k.clone(), v.clone()))
-                    .collect(),
+                Var::Array(a) => super::tcl_hash_order(
+                    a.iter().map(|(k, v)| (k.as_str(), (k.clone(), v.clone()))),
+                )
+                .into_iter()
+                .filter(|(k, _)| pattern(k))
+                .collect(),
                 _ => Vec::new(),
             },
             None => Vec::new(),
         }
     };
+    let all = |_: &str| true;
     let usage = |u: &str| Exception::wrong_args(&format!("array {sub} arrayName{u}"));
     match sub {
         "exists" => {
@@ -173,13 +176,36 @@ fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
             if !args.is_empty() {
                 return Err(usage(""));
             }
-            Ok(Value::from_int(matching(None).len() as i64))
+            Ok(Value::from_int(matching(&all).len() as i64))
         }
         "names" | "get" => {
-            if args.len() > 1 {
-                return Err(usage(" ?pattern?"));
-            }
-            let items = matching(args.first());
+            // `array names a ?mode? ?pattern?`, mode -exact, -glob or -regexp.
+            let (mode, pattern) = match args {
+                [] => ("-glob", None),
+                [p] => ("-glob", Some(p)),
+                [m, p] if sub == "names" => {
+                    let m = pick_option(m.as_str(), &["-exact", "-glob", "-regexp"], "mode")?;
+                    (m, Some(p))
+                }
+                _ if sub == "names" => return Err(usage(" ?mode? ?pattern?")),
+                _ => return Err(usage(" ?pattern?")),
+            };
+            let re = match (mode, pattern) {
+                ("-regexp", Some(p)) => Some(super::regexp::compile(
+                    p.as_str(),
+                    super::regexp::Flags::default(),
+                )?),
+                _ => None,
+            };
+            let test = |k: &str| match (mode, pattern) {
+                (_, None) => true,
+                ("-exact", Some(p)) => k == p.as_str(),
+                ("-regexp", Some(_)) => {
+                    re.as_ref().is_some_and(|r| r.is_match(k).unwrap_or(false))
+                }
+                (_, Some(p)) => glob_match(p.as_str(), k, false),
+            };
+            let items = matching(&test);
             let out = if sub == "names" {
                 items.into_iter().map(|(k, _)| Value::from_string(k)).collect()
             } else {
