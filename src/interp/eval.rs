@@ -210,6 +210,8 @@ pub struct Interp {
     pub executable: String,
     /// `interp alias`: each alias's target words.
     pub(crate) aliases: BTreeMap<String, Vec<Value>>,
+    /// The command a `tailcall` left to run when its proc returns.
+    pub(crate) tailcall: Option<Vec<Value>>,
     /// Open files (`open`, `gets`...).
     pub(crate) channels: super::builtins::Channels,
     /// What the host allows scripts to read and write (`--safe`).
@@ -271,6 +273,7 @@ impl Interp {
             executable: String::new(),
             aliases: BTreeMap::new(),
             channels: Default::default(),
+            tailcall: None,
             fs_policy: None,
         };
         interp.seed_rand(0);
@@ -681,6 +684,11 @@ impl Interp {
         r
     }
 
+    /// Undoes a successful `enter`.
+    pub(crate) fn leave(&mut self) {
+        self.depth -= 1;
+    }
+
     pub(crate) fn enter(&mut self) -> Result<(), Exception> {
         if self.depth >= MAX_NATIVE_DEPTH {
             return Err(too_deep());
@@ -723,12 +731,33 @@ impl Interp {
             }
             self.levels += 1;
         }
-        let r = match cmd {
+        let mut r = match cmd {
             CommandKind::Native(f, _) => f(self, argv),
             CommandKind::Host(f) => f(self, argv),
             CommandKind::Numeric(arity, usage, f) => call_numeric(self, arity, &usage, &f, argv),
             CommandKind::Proc(p) => self.call_proc(&p, argv),
         };
+        // `tailcall`: the proc has returned; its successor runs here, in
+        // the caller's frame, as a loop (a tail-recursive proc runs in
+        // constant depth).
+        while r.is_ok()
+            && let Some(next) = self.tailcall.take()
+        {
+            r = match self.resolve_command(next[0].as_str()).cloned() {
+                Some(CommandKind::Proc(p)) => self.call_proc(&p, &next),
+                Some(_) => {
+                    self.depth -= 1;
+                    self.levels -= level as usize;
+                    let r = self.invoke(&next);
+                    self.depth += 1;
+                    self.levels += level as usize;
+                    r
+                }
+                None => {
+                    Err(Exception::error(format!("invalid command name \"{}\"", next[0].as_str())))
+                }
+            };
+        }
         self.depth -= 1;
         self.levels -= level as usize;
         if crate::mem::grew_past(mark) || value::has_pending() {

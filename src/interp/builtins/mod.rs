@@ -8,6 +8,7 @@ mod dict;
 mod file;
 mod lists;
 mod mathop;
+mod misc;
 mod namespace;
 mod package;
 pub(crate) mod regexp;
@@ -38,7 +39,7 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 12] = [
+    let tables: [&[Entry]; 13] = [
         binary::COMMANDS,
         chan::COMMANDS,
         control::COMMANDS,
@@ -46,6 +47,7 @@ pub(crate) fn register_all(interp: &mut Interp) {
         file::COMMANDS,
         vars::COMMANDS,
         lists::COMMANDS,
+        misc::COMMANDS,
         strings::COMMANDS,
         package::COMMANDS,
         regexp::COMMANDS,

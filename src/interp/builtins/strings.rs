@@ -56,6 +56,27 @@ fn lower(c: char) -> char {
     }
 }
 
+/// Tcl's one-to-one upper case: `ß` stays `ß` (tclsh's `STRAßE`).
+fn upper(c: char) -> char {
+    let mut u = c.to_uppercase();
+    match (u.next(), u.next()) {
+        (Some(x), None) => x,
+        _ => c,
+    }
+}
+
+/// Title case for one character: the few with a title form of their own
+/// (`ǆ` is `ǅ`), else upper case.
+fn title(c: char) -> char {
+    match c {
+        'Ǆ' | 'ǅ' | 'ǆ' => 'ǅ',
+        'Ǉ' | 'ǈ' | 'ǉ' => 'ǈ',
+        'Ǌ' | 'ǋ' | 'ǌ' => 'ǋ',
+        'Ǳ' | 'ǲ' | 'ǳ' => 'ǲ',
+        c => upper(c),
+    }
+}
+
 fn fold(s: &str, nocase: bool) -> String {
     if nocase { s.chars().map(lower).collect() } else { s.to_string() }
 }
@@ -147,23 +168,40 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
             Ok(Value::from_string(out))
         }
         "toupper" | "tolower" | "totitle" => {
-            if a.len() != 1 {
+            if a.is_empty() || a.len() > 3 {
                 return Err(usage("string ?first? ?last?"));
             }
-            let s = a[0].as_str();
-            Ok(Value::from_string(match sub {
-                "toupper" => s.to_uppercase(),
-                "tolower" => s.to_lowercase(),
-                _ => {
-                    let mut it = s.chars();
-                    match it.next() {
-                        Some(c) => {
-                            c.to_uppercase().collect::<String>() + &it.as_str().to_lowercase()
-                        }
-                        None => String::new(),
+            // Character by character, one for one, as Tcl maps case; only
+            // the range first..last (inclusive) changes.
+            let chars: Vec<char> = a[0].as_str().chars().collect();
+            let n = chars.len();
+            let first = match a.get(1) {
+                Some(v) => parse_index(v, n)?,
+                None => 0,
+            };
+            let last = match a.get(2) {
+                Some(v) => parse_index(v, n)?,
+                None if a.len() == 2 => first,
+                None => n as i64 - 1,
+            };
+            let (lo, hi) = (first.max(0), last.min(n as i64 - 1));
+            let out: String = chars
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| {
+                    let i = i as i64;
+                    if i < lo || i > hi {
+                        return c;
                     }
-                }
-            }))
+                    match sub {
+                        "toupper" => upper(c),
+                        "tolower" => lower(c),
+                        _ if i == lo => title(c),
+                        _ => lower(c),
+                    }
+                })
+                .collect();
+            Ok(Value::from_string(out))
         }
         "equal" | "compare" => {
             let u = "?-nocase? ?-length int? string1 string2";

@@ -191,18 +191,15 @@ fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 _ => return Err(usage(" ?pattern?")),
             };
             let re = match (mode, pattern) {
-                ("-regexp", Some(p)) => Some(super::regexp::compile(
-                    p.as_str(),
-                    super::regexp::Flags::default(),
-                )?),
+                ("-regexp", Some(p)) => {
+                    Some(super::regexp::compile(p.as_str(), super::regexp::Flags::default())?)
+                }
                 _ => None,
             };
             let test = |k: &str| match (mode, pattern) {
                 (_, None) => true,
                 ("-exact", Some(p)) => k == p.as_str(),
-                ("-regexp", Some(_)) => {
-                    re.as_ref().is_some_and(|r| r.is_match(k).unwrap_or(false))
-                }
+                ("-regexp", Some(_)) => re.as_ref().is_some_and(|r| r.is_match(k).unwrap_or(false)),
                 (_, Some(p)) => glob_match(p.as_str(), k, false),
             };
             let items = matching(&test);
