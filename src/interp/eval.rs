@@ -374,6 +374,18 @@ impl Interp {
     }
 
     /// `namespace import`: the command under a second name.
+    /// Whether two table keys name the same command (an import of it).
+    pub(crate) fn same_command(&self, a: &str, b: &str) -> bool {
+        match (self.commands.get(a), self.commands.get(b)) {
+            (Some(CommandKind::Proc(x)), Some(CommandKind::Proc(y))) => Rc::ptr_eq(x, y),
+            (Some(CommandKind::Native(x, _)), Some(CommandKind::Native(y, _))) => {
+                std::ptr::fn_addr_eq(*x, *y)
+            }
+            (Some(CommandKind::Host(x)), Some(CommandKind::Host(y))) => Rc::ptr_eq(x, y),
+            _ => false,
+        }
+    }
+
     pub(crate) fn copy_command(&mut self, from: &str, to: &str) {
         if let Some(c) = self.commands.get(from).cloned() {
             self.set_command(to.to_string(), c);

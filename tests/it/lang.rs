@@ -10,16 +10,18 @@ pub fn scripts_match_tclsh() {
     if !tclsh_available() {
         crate::util::skip("tclsh is not installed (.ci/run installs it)");
     }
-    let dir = root().join("tests/tcl");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .expect("tests/tcl")
+    // The scripts, and Rosetta-style programs (tests/tcl/rosetta).
+    let mut files: Vec<_> = ["tests/tcl", "tests/tcl/rosetta"]
+        .iter()
+        .flat_map(|d| std::fs::read_dir(root().join(d)).expect("tests/tcl"))
         .map(|e| e.expect("dir entry").path())
         .filter(|p| p.extension().is_some_and(|e| e == "tcl"))
         .collect();
     files.sort();
-    assert!(files.len() >= 20, "the suite lost its scripts");
+    assert!(files.len() >= 60, "the suite lost its scripts");
     let mut failures = Vec::new();
     for f in &files {
+        let dir = f.parent().expect("a directory").to_path_buf();
         let name = f.file_name().unwrap().to_string_lossy().into_owned();
         let args = ["x y", "z"];
         let want = Command::new("tclsh")

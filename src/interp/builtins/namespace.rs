@@ -268,9 +268,18 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
                         && glob_match(tail, t, false)
                     {
                         let target = interp.qualify_command(t);
-                        if target != name && (force || !interp.has_exact_command(&target)) {
-                            interp.copy_command(&name, &target);
+                        if target == name {
+                            continue;
                         }
+                        if !force
+                            && interp.has_exact_command(&target)
+                            && !interp.same_command(&name, &target)
+                        {
+                            return Err(Exception::error(format!(
+                                "can't import command \"{t}\": already exists"
+                            )));
+                        }
+                        interp.copy_command(&name, &target);
                     }
                 }
             }
