@@ -67,13 +67,7 @@ fuzz_target!(|data: &[u8]| {
         std::fs::create_dir_all(&dir).unwrap();
         std::env::set_current_dir(&dir).unwrap();
         // File commands stay inside the scratch directory (see script.rs).
-        let d = vec![dir.clone()];
-        rayshell::shell::safe::install(rayshell::shell::safe::Policy {
-            read: d.clone(),
-            write: d.clone(),
-            modify: d.clone(),
-            images: d,
-        });
+        rayshell::shell::safe::confine(&dir);
     });
     let prelude = PRELUDES[(head as usize + rest.len()) % PRELUDES.len()];
     let src = format!(

@@ -15,13 +15,7 @@ fuzz_target!(|data: &[u8]| {
         std::env::set_current_dir(&dir).unwrap();
         // Scripts may `open`, `file delete` and `cd`: fence every file
         // access into the scratch directory (`--safe`'s machinery).
-        let d = vec![dir.clone()];
-        rayshell::shell::safe::install(rayshell::shell::safe::Policy {
-            read: d.clone(),
-            write: d.clone(),
-            modify: d.clone(),
-            images: d,
-        });
+        rayshell::shell::safe::confine(&dir);
     });
     let src = String::from_utf8_lossy(data).into_owned();
     // On the interpreter's own big stack, as in the program: `catch` and

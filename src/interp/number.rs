@@ -104,8 +104,9 @@ fn trim_tcl(s: &str) -> &str {
     s.trim_matches(|c: char| matches!(c, ' ' | '\t' | '\n' | '\r' | '\x0b' | '\x0c'))
 }
 
-/// Parses an integer in any Tcl syntax (surrounding white space allowed).
-pub fn parse_int(s: &str) -> Option<i64> {
+/// An integer's parts: its sign, radix and digits (checked to be digits
+/// of that radix), in any Tcl syntax (surrounding white space allowed).
+fn int_parts(s: &str) -> Option<(bool, u32, &str)> {
     let t = trim_tcl(s);
     let (neg, body) = match t.as_bytes().first()? {
         b'-' => (true, &t[1..]),
@@ -130,6 +131,12 @@ pub fn parse_int(s: &str) -> Option<i64> {
     if digits.is_empty() || !digits.bytes().all(|c| (c as char).is_digit(radix)) {
         return None;
     }
+    Some((neg, radix, digits))
+}
+
+/// Parses a 64-bit integer in any Tcl syntax (surrounding white space allowed).
+pub fn parse_int(s: &str) -> Option<i64> {
+    let (neg, radix, digits) = int_parts(s)?;
     let mag = u64::from_str_radix(digits, radix).ok()?;
     if neg {
         if mag <= i64::MAX as u64 + 1 { Some((mag as i64).wrapping_neg()) } else { None }
@@ -143,27 +150,7 @@ pub fn parse_integer(s: &str) -> Option<Num> {
     if let Some(i) = parse_int(s) {
         return Some(Num::Int(i));
     }
-    let t = trim_tcl(s);
-    let (neg, body) = match t.as_bytes().first()? {
-        b'-' => (true, &t[1..]),
-        b'+' => (false, &t[1..]),
-        _ => (false, t),
-    };
-    let b = body.as_bytes();
-    let (radix, digits) = if b.len() > 1 && b[0] == b'0' {
-        match b[1] {
-            b'x' | b'X' => (16, &body[2..]),
-            b'o' | b'O' => (8, &body[2..]),
-            b'b' | b'B' => (2, &body[2..]),
-            b'0'..=b'9' => (8, &body[1..]),
-            _ => return None,
-        }
-    } else {
-        (10, body)
-    };
-    if digits.is_empty() || !digits.bytes().all(|c| (c as char).is_digit(radix)) {
-        return None;
-    }
+    let (neg, radix, digits) = int_parts(s)?;
     let mag = BigInt::parse_bytes(digits.as_bytes(), radix)?;
     Some(Num::from_big(if neg { -mag } else { mag }))
 }

@@ -33,6 +33,13 @@ pub fn install(mut p: Policy) {
     let _ = POLICY.set(p);
 }
 
+/// Confines every file access of scripts to one directory (the fuzz
+/// targets' scratch directory).
+pub fn confine(dir: &Path) {
+    let d = vec![dir.to_path_buf()];
+    install(Policy { read: d.clone(), write: d.clone(), modify: d.clone(), images: d });
+}
+
 pub fn active() -> bool {
     POLICY.get().is_some()
 }

@@ -73,6 +73,18 @@ fn fields(fmt: &str) -> Vec<Field> {
     }
 }
 
+/// Where digit `k` of a `b B h H` field sits in its byte: binary digits
+/// low bit first (`b`) or high first (`B`), hex digits low nibble first
+/// (`h`) or high first (`H`).
+fn digit_shift(cmd: char, k: usize) -> usize {
+    match cmd {
+        'b' => k % 8,
+        'B' => 7 - k % 8,
+        'h' => (k % 2) * 4,
+        _ => (1 - k % 2) * 4,
+    }
+}
+
 /// The byte size of a numeric field letter.
 fn number_size(cmd: char) -> Option<usize> {
     Some(match cmd {
@@ -216,14 +228,7 @@ fn format(args: &[Value]) -> TclResult {
                             v.as_str()
                         ))
                     })? as u8;
-                    let bits = 8 / per;
-                    let slot = k % per;
-                    let shift = match f.cmd {
-                        'b' => slot,
-                        'B' => 7 - slot,
-                        'h' => slot * bits,
-                        _ => (per - 1 - slot) * bits,
-                    };
+                    let shift = digit_shift(f.cmd, k);
                     piece[k / per] |= d << shift;
                 }
                 write_at(&mut out, at, &piece);
@@ -362,13 +367,7 @@ fn scan(interp: &mut Interp, args: &[Value]) -> TclResult {
                 let s: String = (0..n)
                     .map(|k| {
                         let byte = data[at + k / per];
-                        let slot = k % per;
-                        let shift = match f.cmd {
-                            'b' => slot,
-                            'B' => 7 - slot,
-                            'h' => slot * bits,
-                            _ => (per - 1 - slot) * bits,
-                        };
+                        let shift = digit_shift(f.cmd, k);
                         let d = (byte >> shift) & ((1u8 << bits) - 1);
                         char::from_digit(d as u32, 16).expect("a digit")
                     })

@@ -142,57 +142,24 @@ fn check_if(argv: &[Value]) -> Result<(), Exception> {
 }
 
 fn cmd_if(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    // The shape is checked whole first, so the walk below cannot fail on it.
     check_if(argv)?;
     let mut i = 1;
     loop {
-        if i >= argv.len() {
-            let after = argv[i - 1].as_str();
-            return Err(Exception::error(format!(
-                "wrong # args: no expression after \"{after}\" argument"
-            )));
-        }
         let cond = interp.eval_cond(&argv[i])?;
         i += 1;
-        if i < argv.len() && argv[i].as_str() == "then" {
+        if argv[i].as_str() == "then" {
             i += 1;
-        }
-        if i >= argv.len() {
-            let after = argv[i - 1].as_str();
-            return Err(Exception::error(format!(
-                "wrong # args: no script following \"{after}\" argument"
-            )));
         }
         if cond {
             return interp.eval_inline(&argv[i]);
         }
         i += 1;
-        if i >= argv.len() {
-            return Ok(Value::empty());
-        }
-        match argv[i].as_str() {
-            "elseif" => i += 1,
-            "else" => {
-                i += 1;
-                if i >= argv.len() {
-                    return Err(Exception::error(
-                        "wrong # args: no script following \"else\" argument",
-                    ));
-                }
-                if i + 1 < argv.len() {
-                    return Err(Exception::error(
-                        "wrong # args: extra words after \"else\" clause in \"if\" command",
-                    ));
-                }
-                return interp.eval_inline(&argv[i]);
-            }
-            _ => {
-                if i + 1 < argv.len() {
-                    return Err(Exception::error(
-                        "wrong # args: extra words after \"else\" clause in \"if\" command",
-                    ));
-                }
-                return interp.eval_inline(&argv[i]);
-            }
+        match argv.get(i).map(Value::as_str) {
+            None => return Ok(Value::empty()),
+            Some("elseif") => i += 1,
+            Some("else") => return interp.eval_inline(&argv[i + 1]),
+            Some(_) => return interp.eval_inline(&argv[i]),
         }
     }
 }

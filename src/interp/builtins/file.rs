@@ -152,6 +152,20 @@ fn metadata(path: &str, follow: bool) -> Result<std::fs::Metadata, Exception> {
     })
 }
 
+/// What `file type` calls a file's kind.
+fn kind_of(m: &std::fs::Metadata) -> &'static str {
+    let t = m.file_type();
+    if t.is_symlink() {
+        "link"
+    } else if t.is_dir() {
+        "directory"
+    } else if t.is_file() {
+        "file"
+    } else {
+        "characterSpecial"
+    }
+}
+
 fn posix_msg(e: &std::io::Error) -> String {
     let code = posix_code(e);
     code.split_once('{').map_or(String::new(), |(_, m)| m.trim_end_matches('}').to_string())
@@ -233,16 +247,7 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
             };
             interp.check_access(n.as_str(), Access::Read)?;
             let m = metadata(n.as_str(), sub == "stat")?;
-            let t = m.file_type();
-            let kind = if t.is_symlink() {
-                "link"
-            } else if t.is_dir() {
-                "directory"
-            } else if t.is_file() {
-                "file"
-            } else {
-                "characterSpecial"
-            };
+            let kind = kind_of(&m);
             let fields: [(&str, Value); 12] = [
                 ("atime", Value::from_int(m.atime())),
                 ("ctime", Value::from_int(m.ctime())),
@@ -345,18 +350,7 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 "size" => Value::from_int(m.len() as i64),
                 "mtime" => Value::from_int(unix_time(m.modified())),
                 "atime" => Value::from_int(unix_time(m.accessed())),
-                _ => {
-                    let t = m.file_type();
-                    Value::from(if t.is_symlink() {
-                        "link"
-                    } else if t.is_dir() {
-                        "directory"
-                    } else if t.is_file() {
-                        "file"
-                    } else {
-                        "characterSpecial"
-                    })
-                }
+                _ => Value::from(kind_of(&m)),
             }
         }
         "mkdir" => {
@@ -717,7 +711,7 @@ mod tests {
         assert_eq!(tail("/a/b/"), "b");
         assert_eq!(extension("a/b.tar.gz"), ".gz");
         assert_eq!(extension("a.b/c"), "");
-        assert_eq!(extension(".bashrc"), "");
+        assert_eq!(extension(".bashrc"), ".bashrc");
         assert_eq!(split("/a//b"), ["/", "a", "b"]);
         let v = |s: &str| Value::from(s);
         assert_eq!(join(&[v("a"), v("b/"), v("/c"), v("d")]), "/c/d");
