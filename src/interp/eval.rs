@@ -141,6 +141,7 @@ pub(crate) enum Var {
 
 /// Follows an element link: a plain name that is `upvar`ed to an array
 /// element means that element.
+#[inline]
 fn deref_elem<'a>(cell: VarCell, idx: Option<&'a str>) -> (VarCell, Option<Cow<'a, str>>) {
     let target = match (&*cell.borrow(), idx) {
         (Var::Elem(array, key), None) => Some((array.clone(), key.clone())),
@@ -343,6 +344,7 @@ impl Interp {
 
     /// The command a name means here: `::a::b` absolutely; otherwise in
     /// the current namespace first, then the global one.
+    #[inline]
     pub(crate) fn resolve_command(&self, name: &str) -> Option<&CommandKind> {
         if let Some(abs) = name.strip_prefix("::") {
             return self.commands.get(abs);
@@ -753,6 +755,7 @@ impl Interp {
         // the caller's frame, as a loop (a tail-recursive proc runs in
         // constant depth).
         while r.is_ok()
+            && self.tailcall.is_some()
             && let Some(next) = self.tailcall.take()
         {
             r = match self.resolve_command(next[0].as_str()).cloned() {
@@ -847,8 +850,14 @@ impl Interp {
 
     /// Evaluates an expression held in a value (parsed form cached).
     pub fn eval_expr(&mut self, e: &Value) -> TclResult {
-        let v = self.eval_expr_operand(e)?.into_value();
-        if matches!(v.as_num(), Some(Num::Double(d)) if d.is_nan()) {
+        let op = self.eval_expr_operand(e)?;
+        let nan = match &op {
+            Operand::Int(_) => false,
+            Operand::Dbl(d) => d.is_nan(),
+            _ => matches!(op.clone().into_value().as_num(), Some(Num::Double(d)) if d.is_nan()),
+        };
+        let v = op.into_value();
+        if nan {
             return Err(Exception::error("domain error: argument not in valid range")
                 .with_error_code("ARITH DOMAIN {domain error: argument not in valid range}"));
         }
@@ -957,11 +966,20 @@ impl Interp {
             return Err(Exception::error(format!("can't read \"{}\": no such variable", full()))
                 .with_error_code(&format!("TCL LOOKUP VARNAME {name}")));
         };
-        let (cell, idx) = deref_elem(cell, idx);
-        let idx = idx.as_deref();
         let var = cell.borrow();
         match (&*var, idx) {
             (Var::Scalar(v), None) => Ok(v.clone()),
+            (Var::Elem(array, key), None) => {
+                let (array, key) = (array.clone(), key.clone());
+                drop(var);
+                let a = array.borrow();
+                match &*a {
+                    Var::Array(a) => a.get(&*key).cloned().ok_or_else(|| {
+                        Exception::error(format!("can't read \"{name}\": no such variable"))
+                    }),
+                    _ => Err(Exception::error(format!("can't read \"{name}\": no such variable"))),
+                }
+            }
             (Var::Array(_), None) => {
                 Err(Exception::error(format!("can't read \"{name}\": variable is array"))
                     .with_error_code("TCL READ VARNAME"))
@@ -982,7 +1000,10 @@ impl Interp {
     /// Sets a variable given as `name` or `name(index)`; returns the value.
     pub fn set_var(&mut self, name: &str, v: Value) -> TclResult {
         let (base, idx) = split_var_name(name);
-        let (cell, idx) = deref_elem(self.var_cell(base), idx);
+        let cell = self.var_cell(base);
+        let is_link = idx.is_none() && matches!(*cell.borrow(), Var::Elem(..));
+        let (cell, idx) =
+            if is_link { deref_elem(cell, idx) } else { (cell, idx.map(Cow::Borrowed)) };
         let idx = idx.as_deref();
         let mut var = cell.borrow_mut();
         match idx {

@@ -284,6 +284,7 @@ impl Operand {
         }
     }
 
+    #[inline]
     pub(crate) fn num_for(&self, op: &str) -> Result<Num, Exception> {
         match self.num() {
             Some(Num::Double(d)) if d.is_nan() => Err(Exception::error(format!(
@@ -306,6 +307,7 @@ impl Operand {
     }
 
     /// An integer operand of any size, for the bit and shift operators.
+    #[inline]
     fn int_for(&self, op: &str) -> Result<Num, Exception> {
         match self.num_for(op)? {
             Num::Double(_) => Err(Exception::error(format!(
@@ -915,7 +917,44 @@ fn bits(op: BinOp, x: &Num, y: &Num) -> Operand {
     })
 }
 
+/// An operand's 64-bit integer when it is one already (no parsing).
+#[inline]
+fn quick_int(o: &Operand) -> Option<i64> {
+    match o {
+        Operand::Int(i) => Some(*i),
+        Operand::Str(v) => v.cached_int(),
+        _ => None,
+    }
+}
+
+/// Two 64-bit integers: the operators that cannot overflow or whose
+/// overflow is checked here, without building `Num`s.
+#[inline]
+fn binary_small(op: BinOp, x: i64, y: i64) -> Option<Operand> {
+    Some(Operand::Int(match op {
+        BinOp::Add => x.checked_add(y)?,
+        BinOp::Sub => x.checked_sub(y)?,
+        BinOp::Mul => x.checked_mul(y)?,
+        BinOp::Mod if y > 0 => x.rem_euclid(y),
+        BinOp::Lt => (x < y) as i64,
+        BinOp::Gt => (x > y) as i64,
+        BinOp::Le => (x <= y) as i64,
+        BinOp::Ge => (x >= y) as i64,
+        BinOp::Eq => (x == y) as i64,
+        BinOp::Ne => (x != y) as i64,
+        BinOp::BitAnd => x & y,
+        BinOp::BitOr => x | y,
+        BinOp::BitXor => x ^ y,
+        _ => return None,
+    }))
+}
+
 pub(crate) fn binary(op: BinOp, a: Operand, b: Operand) -> Result<Operand, Exception> {
+    if let (Some(x), Some(y)) = (quick_int(&a), quick_int(&b))
+        && let Some(r) = binary_small(op, x, y)
+    {
+        return Ok(r);
+    }
     let sym = op.symbol();
     let is = |o: Option<std::cmp::Ordering>, f: fn(std::cmp::Ordering) -> bool| {
         Operand::Int(o.is_some_and(f) as i64)

@@ -211,6 +211,16 @@ impl Value {
         }
     }
 
+    /// The value's integer, when it is already cached as one (no parsing):
+    /// the fast path of `expr`'s operators.
+    #[inline]
+    pub(crate) fn cached_int(&self) -> Option<i64> {
+        match &*self.0.rep.borrow() {
+            Rep::Int(i) => Some(*i),
+            _ => None,
+        }
+    }
+
     /// The value as a number, if its string is one (cached).
     pub fn as_num(&self) -> Option<Num> {
         match &*self.0.rep.borrow() {

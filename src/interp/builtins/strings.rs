@@ -173,6 +173,15 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
             }
             // Character by character, one for one, as Tcl maps case; only
             // the range first..last (inclusive) changes.
+            let s = a[0].as_str();
+            if a.len() == 1 && sub != "totitle" {
+                return Ok(Value::from_string(match (sub, s.is_ascii()) {
+                    ("toupper", true) => s.to_ascii_uppercase(),
+                    ("toupper", false) => s.chars().map(upper).collect(),
+                    (_, true) => s.to_ascii_lowercase(),
+                    _ => s.chars().map(lower).collect(),
+                }));
+            }
             let chars: Vec<char> = a[0].as_str().chars().collect();
             let n = chars.len();
             let first = match a.get(1) {

@@ -81,6 +81,13 @@ fn cmd_incr(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, 3, "varName ?increment?")?;
     let by = if argv.len() == 3 { argv[2].as_integer()? } else { Num::Int(1) };
     interp.update_var(argv[1].as_str(), Some(Value::from_int(0)), &mut |v| {
+        // The 64-bit path first; bignums when it overflows.
+        if let (Some(x), Num::Int(y)) = (v.cached_int(), &by)
+            && let Some(sum) = x.checked_add(*y)
+        {
+            *v = Value::from_int(sum);
+            return Ok(());
+        }
         *v = Value::from_num(number::int_add(&v.as_integer()?, &by));
         Ok(())
     })
