@@ -63,3 +63,11 @@ set f [open $dir/chan_tmp.txt RDONLY]; puts [gets $f]; close $f
 puts [lsort [chan names std*]]
 file delete $dir/chan_tmp.txt
 puts [file exists $dir/chan_tmp.txt]
+# Bytes that are not UTF-8 count as one character each when reading by count.
+set f [open $dir/chan_tmp2.txt wb]; puts -nonewline $f "\xff\xfeab\xe2\x82\xacc\r\nd"; close $f
+set f [open $dir/chan_tmp2.txt]
+fconfigure $f -encoding utf-8
+set a [read $f 2]; set t1 [tell $f]; set b [read $f 4]; set t2 [tell $f]; set c [read $f]
+puts [list [string length $a] $t1 [string length $b] $t2 [string length $c] [eof $f]]
+close $f
+file delete $dir/chan_tmp2.txt

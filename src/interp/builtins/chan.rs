@@ -216,40 +216,44 @@ impl FileChan {
                 break;
             }
         }
-        let raw = self.rbuf[self.rpos..].to_vec();
-        let text = self.translate(&raw);
-        let s = self.decode(&text);
-        match n {
-            Some(n) if s.chars().count() > n => {
-                let taken: String = s.chars().take(n).collect();
-                // Put back what was not taken, counting bytes of the source.
-                let used = if self.binary {
-                    n
+        let raw = &self.rbuf[self.rpos..];
+        // The bytes of the first n characters (a `\r\n` is one; a byte
+        // that is not UTF-8 is one character, as the decoding makes it).
+        let mut take = raw.len();
+        if let Some(n) = n {
+            let (mut bytes, mut chars) = (0, 0);
+            while chars < n && bytes < raw.len() {
+                let b = raw[bytes];
+                let len = if self.binary {
+                    1
+                } else if b == b'\r' && raw.get(bytes + 1) == Some(&b'\n') {
+                    2
                 } else {
-                    let mut bytes = 0;
-                    let mut chars = 0;
-                    let src = String::from_utf8_lossy(&raw).into_owned();
-                    for (i, c) in src.char_indices() {
-                        if chars == n {
-                            bytes = i;
-                            break;
-                        }
-                        if c != '\r' || !src[i + 1..].starts_with('\n') {
-                            chars += 1;
-                        }
-                        bytes = i + c.len_utf8();
-                    }
-                    bytes
+                    let want = match b {
+                        0xc0..=0xdf => 2,
+                        0xe0..=0xef => 3,
+                        0xf0..=0xf7 => 4,
+                        _ => 1,
+                    };
+                    let ok = raw[bytes + 1..]
+                        .iter()
+                        .take(want - 1)
+                        .take_while(|&&c| c & 0xc0 == 0x80)
+                        .count();
+                    if ok == want - 1 { want } else { 1 }
                 };
-                self.rpos += used;
-                self.eof = false;
-                Ok(taken)
+                bytes += len;
+                chars += 1;
             }
-            _ => {
-                self.rpos = self.rbuf.len();
-                Ok(s)
-            }
+            take = bytes.min(raw.len());
         }
+        let raw = raw[..take].to_vec();
+        self.rpos += take;
+        if self.rpos < self.rbuf.len() {
+            self.eof = false;
+        }
+        let text = self.translate(&raw);
+        Ok(self.decode(&text))
     }
 
     fn write(&mut self, s: &str) {
@@ -262,7 +266,8 @@ impl FileChan {
 
     fn tell(&mut self) -> std::io::Result<u64> {
         let pos = self.file.stream_position()?;
-        Ok(pos + self.wbuf.len() as u64 - (self.rbuf.len() - self.rpos) as u64)
+        let unread = self.rbuf.len().saturating_sub(self.rpos) as u64;
+        Ok((pos + self.wbuf.len() as u64).saturating_sub(unread))
     }
 
     fn seek(&mut self, to: SeekFrom) -> std::io::Result<()> {
