@@ -864,6 +864,7 @@ impl Interp {
         Ok(v)
     }
 
+    #[inline]
     pub(crate) fn eval_expr_operand(&mut self, e: &Value) -> Result<Operand, Exception> {
         let ast = self.expr_of(e)?;
         self.enter()?;
@@ -872,6 +873,7 @@ impl Interp {
         r
     }
 
+    #[inline]
     pub fn eval_cond(&mut self, e: &Value) -> Result<bool, Exception> {
         let v = self.eval_expr_operand(e)?;
         match v {

@@ -336,6 +336,7 @@ impl Operand {
         }
     }
 
+    #[inline]
     pub fn into_value(self) -> Value {
         match self {
             Operand::Int(i) => Value::from_int(i),
