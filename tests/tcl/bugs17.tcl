@@ -66,3 +66,5 @@ foreach f {%#.0e %#.0f %#g %#.3g %#x %#o %#b %#X %05s %-05s %05c %#.0E %+05d %05
 puts [format {%-05d|%-05x|%-#05x|%-05.1f} 5 5 5 1.5]
 set i 0; puts [catch {for {} {$i < 3} {incr i; continue} { puts i=$i }} m]$m
 puts [catch {for {} {$i < 3} {error boo} { }} m]$m; puts $errorInfo
+# Option words of string compare/equal/map/match: abbreviations and bad ones.
+foreach c {{string compare a b c} {string compare -len 2 abc abd} {string compare -no A a} {string compare -length 1 a} {string equal -nocase -length 2 ABx abY} {string map {a b} abba oops} {string map -no {abc 321 Ab * a A} aAbCaBaAbAbcAb} {string match - b c} {string match -n a A} {string map -nocase {a b} A} {string compare -x a b}} { catch $c m; puts [list $c $m] }

@@ -77,6 +77,16 @@ fn title(c: char) -> char {
     }
 }
 
+/// A `-nocase` flag, which Tcl takes abbreviated (`-no`); anything else in
+/// its place is a bad option.
+fn nocase_flag(v: &Value) -> Result<(), Exception> {
+    let s = v.as_str();
+    if s.len() > 1 && "-nocase".starts_with(s) {
+        return Ok(());
+    }
+    Err(Exception::error(format!("bad option \"{s}\": must be -nocase")))
+}
+
 fn fold(s: &str, nocase: bool) -> String {
     if nocase { s.chars().map(lower).collect() } else { s.to_string() }
 }
@@ -221,13 +231,20 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
             let mut length: Option<i64> = None;
             let mut i = 0;
             while i < a.len() - 2 {
-                match a[i].as_str() {
-                    "-nocase" => nocase = true,
-                    "-length" if i + 1 < a.len() - 2 => {
-                        i += 1;
-                        length = Some(a[i].as_int()?);
+                let o = a[i].as_str();
+                let is = |full: &str| o.len() > 1 && full.starts_with(o);
+                if is("-nocase") {
+                    nocase = true;
+                } else if is("-length") {
+                    if i + 1 >= a.len() - 2 {
+                        return Err(usage(u));
                     }
-                    _ => return Err(usage(u)),
+                    i += 1;
+                    length = Some(a[i].as_int()?);
+                } else {
+                    return Err(Exception::error(format!(
+                        "bad option \"{o}\": must be -nocase or -length"
+                    )));
                 }
                 i += 1;
             }
@@ -251,7 +268,10 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
         }
         "match" => {
             let (nocase, rest) = match a {
-                [o, p, s] if o.as_str() == "-nocase" => (true, [p, s]),
+                [o, p, s] => {
+                    nocase_flag(o)?;
+                    (true, [p, s])
+                }
                 [p, s] => (false, [p, s]),
                 _ => return Err(usage("?-nocase? pattern string")),
             };
@@ -298,7 +318,10 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
         }
         "map" => {
             let (nocase, map, s) = match a {
-                [o, m, s] if o.as_str() == "-nocase" => (true, m, s),
+                [o, m, s] => {
+                    nocase_flag(o)?;
+                    (true, m, s)
+                }
                 [m, s] => (false, m, s),
                 _ => return Err(usage("?-nocase? charMap string")),
             };
