@@ -854,7 +854,8 @@ impl Interp {
         let nan = match &op {
             Operand::Int(_) => false,
             Operand::Dbl(d) => d.is_nan(),
-            _ => matches!(op.clone().into_value().as_num(), Some(Num::Double(d)) if d.is_nan()),
+            Operand::Big(_) => false,
+            Operand::Str(v) => matches!(v.as_num(), Some(Num::Double(d)) if d.is_nan()),
         };
         let v = op.into_value();
         if nan {

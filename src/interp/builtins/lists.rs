@@ -159,6 +159,25 @@ fn dictionary_cmp(a: &str, b: &str) -> Ordering {
     (a.len() - i).cmp(&(b.len() - j)).then(case_tiebreak)
 }
 
+/// Follows a nested `-index` path (`lsort`, `lsearch`) down from `v`;
+/// `step` sees each index taken.
+fn walk_index(mut v: Value, path: &[Value], mut step: impl FnMut(i64)) -> Result<Value, Exception> {
+    for idx in path {
+        let l = v.as_list()?;
+        let k = parse_index(idx, l.len())?;
+        if k < 0 || k as usize >= l.len() {
+            return Err(Exception::error(format!(
+                "element {} missing from sublist \"{}\"",
+                idx.as_str(),
+                v.as_str()
+            )));
+        }
+        step(k);
+        v = l[k as usize].clone();
+    }
+    Ok(v)
+}
+
 fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "?-option value ...? list")?;
     let mut mode = "-ascii";
@@ -259,19 +278,7 @@ fn cmd_lsort(interp: &mut Interp, argv: &[Value]) -> TclResult {
     // (key, first position of the group)
     let mut keyed: Vec<(Value, usize)> = Vec::with_capacity(items.len() / group);
     for start in (0..items.len()).step_by(group) {
-        let mut key = items[start + lead].clone();
-        for idx in path {
-            let sub = key.as_list()?;
-            let k = parse_index(idx, sub.len())?;
-            if k < 0 || k as usize >= sub.len() {
-                return Err(Exception::error(format!(
-                    "element {} missing from sublist \"{}\"",
-                    idx.as_str(),
-                    key.as_str()
-                )));
-            }
-            key = sub[k as usize].clone();
-        }
+        let key = walk_index(items[start + lead].clone(), path, |_| {})?;
         if mode == "-integer" {
             key.as_int()?;
         } else if mode == "-real" {
@@ -446,21 +453,8 @@ fn cmd_lsearch(_: &mut Interp, argv: &[Value]) -> TclResult {
         match &index {
             None => Ok((it.clone(), Vec::new())),
             Some(idx) => {
-                let mut cur = it.clone();
                 let mut path = Vec::new();
-                for k in idx {
-                    let l = cur.as_list()?;
-                    let n = parse_index(k, l.len())?;
-                    if n < 0 || n as usize >= l.len() {
-                        return Err(Exception::error(format!(
-                            "element {} missing from sublist \"{}\"",
-                            k.as_str(),
-                            cur.as_str()
-                        )));
-                    }
-                    cur = l[n as usize].clone();
-                    path.push(Value::from_int(n));
-                }
+                let cur = walk_index(it.clone(), idx, |n| path.push(Value::from_int(n)))?;
                 Ok((cur, path))
             }
         }
