@@ -217,6 +217,10 @@ pub struct Interp {
     pub(crate) channels: super::builtins::Channels,
     /// What the host allows scripts to read and write (`--safe`).
     fs_policy: Option<FsPolicy>,
+    /// `trace add variable`: traces by variable (empty: no trace cost).
+    pub(crate) var_traces: super::builtins::VarTraceTable,
+    /// `trace add command` and `trace add execution`.
+    pub(crate) cmd_traces: super::builtins::CmdTraces,
 }
 
 fn truncate_cmd(text: &str) -> String {
@@ -276,6 +280,8 @@ impl Interp {
             channels: Default::default(),
             tailcall: None,
             fs_policy: None,
+            var_traces: Default::default(),
+            cmd_traces: Default::default(),
         };
         interp.seed_rand(0);
         super::builtins::register_all(&mut interp);
@@ -457,6 +463,9 @@ impl Interp {
 
     pub(crate) fn define_proc(&mut self, p: Proc) {
         let name = p.name.clone();
+        if !self.cmd_traces.is_empty() {
+            self.fire_replace_traces(&name);
+        }
         self.set_command(name, CommandKind::Proc(Rc::new(p)));
     }
 
@@ -473,6 +482,9 @@ impl Interp {
                 )));
             }
             self.commands.insert(new.to_string(), cmd);
+        }
+        if !self.cmd_traces.is_empty() {
+            self.fire_rename_traces(old, new);
         }
         Ok(())
     }
@@ -745,11 +757,11 @@ impl Interp {
             }
             self.levels += 1;
         }
-        let mut r = match cmd {
-            CommandKind::Native(f, _) => f(self, argv),
-            CommandKind::Host(f) => f(self, argv),
-            CommandKind::Numeric(arity, usage, f) => call_numeric(self, arity, &usage, &f, argv),
-            CommandKind::Proc(p) => self.call_proc(&p, argv),
+        let mut r = if self.cmd_traces.is_empty() {
+            self.dispatch(cmd, argv)
+        } else {
+            let key = self.command_key(argv[0].as_str());
+            self.invoke_traced(key, argv, cmd)
         };
         // `tailcall`: the proc has returned; its successor runs here, in
         // the caller's frame, as a loop (a tail-recursive proc runs in
@@ -779,6 +791,16 @@ impl Interp {
             return after_growth(r);
         }
         r
+    }
+
+    #[inline]
+    pub(crate) fn dispatch(&mut self, cmd: CommandKind, argv: &[Value]) -> TclResult {
+        match cmd {
+            CommandKind::Native(f, _) => f(self, argv),
+            CommandKind::Host(f) => f(self, argv),
+            CommandKind::Numeric(arity, usage, f) => call_numeric(self, arity, &usage, &f, argv),
+            CommandKind::Proc(p) => self.call_proc(&p, argv),
+        }
     }
 
     /// Calls a lambda: `argv` is `apply`'s words (`apply`, the lambda
@@ -825,9 +847,14 @@ impl Interp {
         self.cur = self.frames.len() - 1;
         let saved_ns = std::mem::replace(&mut self.ns, p.ns.clone());
         let r = self.eval(&p.body);
+        let dying =
+            if self.var_traces.is_empty() { Vec::new() } else { self.traced_locals(self.cur) };
         self.ns = saved_ns;
         self.frames.pop();
         self.cur = saved;
+        if !dying.is_empty() {
+            self.fire_frame_unset_traces(dying);
+        }
         match r {
             Ok(v) => Ok(v),
             Err(mut e) => match e.code {
@@ -969,6 +996,9 @@ impl Interp {
             return Err(Exception::error(format!("can't read \"{}\": no such variable", full()))
                 .with_error_code(&format!("TCL LOOKUP VARNAME {name}")));
         };
+        if !self.var_traces.is_empty() {
+            self.traced_access(&cell, name, idx, super::builtins::trace::READ)?;
+        }
         let var = cell.borrow();
         match (&*var, idx) {
             (Var::Scalar(v), None) => Ok(v.clone()),
@@ -1000,8 +1030,44 @@ impl Interp {
         }
     }
 
+    /// Runs the traces on a variable that is being accessed.
+    #[cold]
+    pub(crate) fn traced_access(
+        &mut self,
+        cell: &VarCell,
+        name: &str,
+        idx: Option<&str>,
+        op: u8,
+    ) -> Result<(), Exception> {
+        let (cell, idx) = deref_elem(cell.clone(), idx);
+        self.fire_var_traces(&cell, name, idx.as_deref(), op)
+    }
+
+    /// After a traced write: the write traces, then the value the variable
+    /// holds now (a trace may change it), or the empty string.
+    #[cold]
+    fn after_write(&mut self, name: &str, v: Value) -> TclResult {
+        let (base, idx) = split_var_name(name);
+        let Some(cell) = self.find_var(base) else { return Ok(v) };
+        self.traced_access(&cell, base, idx, super::builtins::trace::WRITE)?;
+        let (cell, idx) = deref_elem(cell, idx);
+        Ok(match (&*cell.borrow(), idx.as_deref()) {
+            (Var::Scalar(v), None) => v.clone(),
+            (Var::Array(a), Some(i)) => a.get(i).cloned().unwrap_or_default(),
+            _ => Value::empty(),
+        })
+    }
+
     /// Sets a variable given as `name` or `name(index)`; returns the value.
     pub fn set_var(&mut self, name: &str, v: Value) -> TclResult {
+        let r = self.set_var_untraced(name, v)?;
+        if self.var_traces.is_empty() {
+            return Ok(r);
+        }
+        self.after_write(name, r)
+    }
+
+    fn set_var_untraced(&mut self, name: &str, v: Value) -> TclResult {
         let (base, idx) = split_var_name(name);
         let cell = self.var_cell(base);
         let is_link = idx.is_none() && matches!(*cell.borrow(), Var::Elem(..));
@@ -1040,6 +1106,19 @@ impl Interp {
     /// Changes a variable's value in place (for `append`, `lappend`, `incr`),
     /// creating it from `init` when it does not exist.
     pub(crate) fn update_var(
+        &mut self,
+        name: &str,
+        init: Option<Value>,
+        f: &mut dyn FnMut(&mut Value) -> Result<(), Exception>,
+    ) -> TclResult {
+        let r = self.update_var_untraced(name, init, f)?;
+        if self.var_traces.is_empty() {
+            return Ok(r);
+        }
+        self.after_write(name, r)
+    }
+
+    fn update_var_untraced(
         &mut self,
         name: &str,
         init: Option<Value>,
@@ -1095,21 +1174,36 @@ impl Interp {
             // Unsetting the alias unsets the element; the alias stays.
             let (array, key) = deref_elem(found, None);
             let key = key.expect("an element link");
-            let mut var = array.borrow_mut();
-            return match &mut *var {
+            let r = match &mut *array.borrow_mut() {
                 Var::Array(a) => a.shift_remove(&*key).map(|_| ()).ok_or_else(err),
                 _ => Err(err()),
             };
+            if r.is_ok() && !self.var_traces.is_empty() {
+                self.fire_unset_traces(&array, base, Some(&key));
+            }
+            return r;
         }
         let cell = found;
         let mut var = cell.borrow_mut();
         match (&mut *var, idx) {
-            (Var::Undefined, _) => return Err(err()),
+            (Var::Undefined, _) => {
+                drop(var);
+                if !self.var_traces.is_empty() {
+                    // A traced variable that is not set: its unset traces
+                    // run all the same.
+                    self.fire_unset_traces(&cell, base, None);
+                }
+                return Err(err());
+            }
             (Var::Array(a), Some(i)) => {
                 if a.shift_remove(i).is_none() {
                     return Err(Exception::error(format!(
                         "can't unset \"{name}\": no such element in array"
                     )));
+                }
+                drop(var);
+                if !self.var_traces.is_empty() {
+                    self.fire_unset_traces(&cell, base, Some(i));
                 }
                 return Ok(());
             }
@@ -1121,6 +1215,13 @@ impl Interp {
             (slot, None) => *slot = Var::Undefined,
         }
         drop(var);
+        if !self.var_traces.is_empty() {
+            self.fire_unset_traces(&cell, base, None);
+            if !matches!(*cell.borrow(), Var::Undefined) {
+                // An unset trace set it again.
+                return Ok(());
+            }
+        }
         // A variable another frame links to (`upvar`, `global`) stays as
         // an undefined slot, so the link holds: setting it again sets the
         // linked variable, as in Tcl.

@@ -644,8 +644,9 @@ fn outcome(interp: &mut Interp, r: &TclResult) -> Result<(i64, Value, Value), Ex
     opts.extend([Value::from("-code"), Value::from_int(e.code.as_int()), Value::from("-level")]);
     opts.push(Value::from_int(0));
     if e.code == Code::Error {
-        interp.set_var("::errorInfo", Value::from(e.error_info()))?;
-        interp.set_var("::errorCode", e.error_code())?;
+        // As in Tcl, a failing trace on these cannot stop the `catch`.
+        let _ = interp.set_var("::errorCode", e.error_code());
+        let _ = interp.set_var("::errorInfo", Value::from(e.error_info()));
         opts.extend([
             Value::from("-errorcode"),
             e.error_code(),

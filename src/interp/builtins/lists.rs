@@ -80,6 +80,9 @@ fn cmd_lrange(_: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn cmd_lappend(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "varName ?value ...?")?;
+    if !interp.var_traces.is_empty() {
+        interp.fire_read_traces_of(argv[1].as_str())?;
+    }
     interp.update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| {
         check_list_len(v.as_list()?.len() + argv.len())?;
         v.list_append(&argv[2..])

@@ -14,6 +14,7 @@ mod package;
 pub(crate) mod regexp;
 mod scan;
 mod strings;
+pub(crate) mod trace;
 mod vars;
 
 /// The subcommands of the built-in ensembles (`string`, `info`, `array`),
@@ -31,6 +32,7 @@ pub fn subcommands(command: &str) -> Option<&'static [&'static str]> {
 pub(crate) use chan::Channels;
 pub(crate) use control::with_body_line;
 pub use package::{Packages, TCL_PATCHLEVEL, TCL_VERSION};
+pub(crate) use trace::{CmdTraces, VarTraceTable};
 
 use super::error::Exception;
 use super::eval::{Interp, NativeFn};
@@ -39,7 +41,7 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 13] = [
+    let tables: [&[Entry]; 14] = [
         binary::COMMANDS,
         chan::COMMANDS,
         control::COMMANDS,
@@ -53,6 +55,7 @@ pub(crate) fn register_all(interp: &mut Interp) {
         regexp::COMMANDS,
         scan::COMMANDS,
         namespace::COMMANDS,
+        trace::COMMANDS,
     ];
     for table in tables {
         for (name, f, usage, summary) in table {

@@ -80,6 +80,9 @@ fn cmd_append(interp: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_incr(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, 3, "varName ?increment?")?;
     let by = if argv.len() == 3 { argv[2].as_integer()? } else { Num::Int(1) };
+    if !interp.var_traces.is_empty() {
+        interp.fire_read_traces_of(argv[1].as_str())?;
+    }
     interp.update_var(argv[1].as_str(), Some(Value::from_int(0)), &mut |v| {
         // The 64-bit path first; bignums when it overflows.
         if let (Some(x), Num::Int(y)) = (v.cached_int(), &by)
@@ -154,6 +157,12 @@ fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let name = argv[2].as_str();
     let args = &argv[3..];
     let cell = interp.find_var(name);
+    if !interp.var_traces.is_empty()
+        && let Some(c) = &cell
+        && !matches!(*c.borrow(), Var::Scalar(_))
+    {
+        interp.traced_access(c, name, None, super::trace::ARRAY)?;
+    }
     let is_array = cell.as_ref().is_some_and(|c| matches!(*c.borrow(), Var::Array(_)));
     // Elements in Tcl's hash order, those the pattern takes.
     let matching = |pattern: &dyn Fn(&str) -> bool| -> Vec<(String, Value)> {
@@ -226,6 +235,16 @@ fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 return Err(Exception::error("list must have an even number of elements"));
             }
             let cell = interp.var_cell(name);
+            if !interp.var_traces.is_empty() && !matches!(*cell.borrow(), Var::Scalar(_)) {
+                // Element by element, so write traces see each.
+                if !matches!(*cell.borrow(), Var::Array(_)) {
+                    *cell.borrow_mut() = Var::Array(IndexMap::new());
+                }
+                for kv in items.chunks(2) {
+                    interp.set_var(&format!("{name}({})", kv[0].as_str()), kv[1].clone())?;
+                }
+                return Ok(Value::empty());
+            }
             let mut var = cell.borrow_mut();
             if let Var::Scalar(_) = &*var {
                 return Err(Exception::error(format!(
@@ -250,6 +269,22 @@ fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 None => {
                     if is_array {
                         interp.unset_var(name)?;
+                    }
+                }
+                Some(p) if !interp.var_traces.is_empty() => {
+                    let keys: Vec<String> = match cell.as_ref().map(|c| c.borrow()) {
+                        Some(v) => match &*v {
+                            Var::Array(a) => a
+                                .keys()
+                                .filter(|k| glob_match(p.as_str(), k, false))
+                                .cloned()
+                                .collect(),
+                            _ => Vec::new(),
+                        },
+                        None => Vec::new(),
+                    };
+                    for k in keys {
+                        let _ = interp.unset_var(&format!("{name}({k})"));
                     }
                 }
                 Some(p) => {
