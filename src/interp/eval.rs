@@ -117,6 +117,8 @@ pub enum Access {
     Modify,
     /// An image the host writes for the script (`render`).
     Image,
+    /// Running a program (`exec`, `open |cmd`): the path is its name.
+    Run,
 }
 
 /// A host's file policy: `Err(message)` refuses.

@@ -92,12 +92,15 @@ pub fn check(path: &str, access: Access) -> Result<(), String> {
         Access::Write => &p.write,
         Access::Modify => &p.modify,
         Access::Image => &p.images,
+        // No directory makes a program safe to run.
+        Access::Run => return Err(format!("--safe: a scene may not run programs (\"{path}\")")),
     };
     let what = match access {
         Access::Read => "read",
         Access::Write => "write",
         Access::Modify => "change",
         Access::Image => "write an image to",
+        Access::Run => "run",
     };
     if roots.is_empty() {
         return Err(format!("--safe: a scene may not {what} \"{path}\""));

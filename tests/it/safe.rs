@@ -31,6 +31,8 @@ pub fn every_fence_holds() {
         ("cd", "cd /".to_string()),
         ("pipe", "open |ls".to_string()),
         ("exec", "exec ls".to_string()),
+        ("exec touch", format!("exec touch {o}/touched")),
+        ("pipe touch", format!("close [open \"|touch {o}/piped\" w]")),
         ("glob private", format!("llength [glob -nocomplain {p}/*]")),
         ("render elsewhere", format!("render {p}/x.ppm")),
         ("mesh private", format!("mesh {p}/secret.txt")),
@@ -73,8 +75,11 @@ pub fn every_fence_holds() {
     ] {
         assert!(line(what).contains("|1|--safe: a scene may not"), "{what}: {got}");
     }
-    assert!(line("pipe").starts_with("pipe|1|"), "{got}");
-    assert!(line("exec").contains("|1|invalid command name"), "{got}");
+    assert!(line("pipe").contains("|1|--safe: a scene may not run programs"), "{got}");
+    assert!(line("exec").contains("|1|--safe: a scene may not run programs"), "{got}");
+    assert!(line("exec touch").contains("|1|--safe: a scene may not run programs"), "{got}");
+    assert!(line("pipe touch").contains("|1|--safe: a scene may not run programs"), "{got}");
+    assert!(!out.join("touched").exists() && !out.join("piped").exists());
     assert_eq!(line("glob private"), "glob private|0|0", "{got}");
     // Nothing was changed or made outside; the images inside were written.
     assert!(scene.join("data.txt").exists() && private.join("secret.txt").exists());
@@ -90,5 +95,6 @@ pub fn every_fence_holds() {
     // Without --safe the same scene may read and write.
     let r = raytrace().arg(scene.join("s.tsd")).output().unwrap();
     assert!(text(&r.stdout).contains("read private|0|file"));
+    assert!(out.join("touched").exists() && out.join("piped").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }

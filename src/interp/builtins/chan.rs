@@ -45,6 +45,8 @@ pub(crate) struct FileChan {
     binary: bool,
     /// A `\r` ended the last read: a `\n` right after it belongs to it.
     pending_cr: bool,
+    /// For a command pipeline (`open |cmd`): its processes.
+    children: Vec<std::process::Child>,
 }
 
 /// The channels an interpreter has open, by name.
@@ -95,6 +97,21 @@ fn no_channel(name: &str) -> Exception {
 }
 
 impl Channels {
+    /// The process ids behind a pipeline channel (empty for a file).
+    pub(crate) fn pids(&self, name: &str) -> Result<Vec<u32>, Exception> {
+        match name {
+            "stdin" | "stdout" | "stderr" => Ok(Vec::new()),
+            _ => Ok(self
+                .files
+                .get(name)
+                .ok_or_else(|| no_channel(name))?
+                .children
+                .iter()
+                .map(|c| c.id())
+                .collect()),
+        }
+    }
+
     fn get(&mut self, name: &str) -> Result<&mut FileChan, Exception> {
         self.files.get_mut(name).ok_or_else(|| no_channel(name))
     }
@@ -108,6 +125,27 @@ impl Channels {
 }
 
 impl FileChan {
+    /// A channel on a pipe to or from a pipeline's processes.
+    pub(super) fn pipe(
+        file: File,
+        readable: bool,
+        writable: bool,
+        children: Vec<std::process::Child>,
+    ) -> FileChan {
+        FileChan {
+            file,
+            readable,
+            writable,
+            rbuf: Vec::new(),
+            rpos: 0,
+            wbuf: Vec::new(),
+            eof: false,
+            binary: false,
+            pending_cr: false,
+            children,
+        }
+    }
+
     fn flush(&mut self) -> std::io::Result<()> {
         if !self.wbuf.is_empty() {
             self.file.write_all(&self.wbuf)?;
@@ -335,11 +373,22 @@ fn parse_access(mode: &str) -> Result<[bool; 7], Exception> {
 fn cmd_open(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, 4, "fileName ?access? ?permissions?")?;
     let path = argv[1].as_str();
-    if path.starts_with('|') {
-        return Err(Exception::error("command pipelines are not supported by rayshell"));
-    }
     let [read, write, append, create, truncate, exclusive, binary] =
         parse_access(argv.get(2).map_or("r", |v| v.as_str()))?;
+    if let Some(spec) = path.strip_prefix('|') {
+        if read && write {
+            return Err(Exception::error(
+                "rayshell opens a command pipeline for reading or for writing, not both",
+            ));
+        }
+        let chan = super::exec::open_pipeline(interp, spec, write)?;
+        let name = {
+            use std::os::unix::io::AsRawFd;
+            format!("file{}", chan.file.as_raw_fd())
+        };
+        interp.channels.files.insert(name.clone(), chan);
+        return Ok(Value::from_string(name));
+    }
     interp.check_access(path, if write { Access::Write } else { Access::Read })?;
     let mut opts = std::fs::OpenOptions::new();
     opts.read(read).write(write && !append).append(append);
@@ -377,6 +426,7 @@ fn cmd_open(interp: &mut Interp, argv: &[Value]) -> TclResult {
             eof: false,
             binary,
             pending_cr: false,
+            children: Vec::new(),
         },
     );
     Ok(Value::from_string(name))
@@ -390,7 +440,14 @@ fn cmd_close(interp: &mut Interp, argv: &[Value]) -> TclResult {
         return Ok(Value::empty());
     }
     let mut c = interp.channels.files.remove(name).ok_or_else(|| no_channel(name))?;
-    c.flush()
+    let flushed = c.flush();
+    let children = std::mem::take(&mut c.children);
+    // The pipe closes before the processes are waited for.
+    drop(c);
+    if !children.is_empty() {
+        super::exec::close_pipeline(children)?;
+    }
+    flushed
         .map_err(|e| Exception::error(format!("error flushing \"{name}\": {}", io_error(&e))))?;
     Ok(Value::empty())
 }

@@ -665,11 +665,12 @@ fn cmd_glob(interp: &mut Interp, argv: &[Value]) -> TclResult {
     Ok(Value::from_list(out))
 }
 
-fn cmd_pid(_: &mut Interp, argv: &[Value]) -> TclResult {
+fn cmd_pid(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 1, 2, "?channelId?")?;
     if argv.len() == 2 {
-        // Files have no processes behind them.
-        return Ok(Value::empty());
+        // A pipeline's processes; a file has none.
+        let pids = interp.channels.pids(argv[1].as_str())?;
+        return Ok(Value::from_list(pids.into_iter().map(|p| Value::from_int(p.into())).collect()));
     }
     Ok(Value::from_int(std::process::id() as i64))
 }

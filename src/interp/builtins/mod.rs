@@ -5,6 +5,7 @@ mod binary;
 mod chan;
 mod control;
 mod dict;
+mod exec;
 mod file;
 mod lists;
 mod mathop;
@@ -41,7 +42,7 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 14] = [
+    let tables: [&[Entry]; 15] = [
         binary::COMMANDS,
         chan::COMMANDS,
         control::COMMANDS,
@@ -56,6 +57,7 @@ pub(crate) fn register_all(interp: &mut Interp) {
         scan::COMMANDS,
         namespace::COMMANDS,
         trace::COMMANDS,
+        exec::COMMANDS,
     ];
     for table in tables {
         for (name, f, usage, summary) in table {
