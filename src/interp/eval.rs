@@ -156,11 +156,14 @@ fn deref_elem<'a>(cell: VarCell, idx: Option<&'a str>) -> (VarCell, Option<Cow<'
 }
 
 pub(crate) type VarCell = Rc<RefCell<Var>>;
+pub(crate) type VarMap = IndexMap<Rc<str>, VarCell, rustc_hash::FxBuildHasher>;
 
 pub(crate) struct Frame {
     /// The namespace code in this frame runs in.
     pub(crate) ns: Rc<str>,
-    pub(crate) vars: FxHashMap<Rc<str>, VarCell>,
+    /// In the order they were made (`info vars` in a proc lists them so,
+    /// as Tcl lists compiled locals).
+    pub(crate) vars: VarMap,
     pub(crate) level: usize,
     /// Index of the frame whose variables the caller saw (for `upvar 1`).
     pub(crate) caller: usize,
@@ -254,7 +257,7 @@ impl Interp {
             cmd_epoch: 0,
             frames: vec![Frame {
                 ns: Rc::from(""),
-                vars: FxHashMap::default(),
+                vars: VarMap::default(),
                 level: 0,
                 caller: 0,
                 objv: Vec::new(),
@@ -814,7 +817,7 @@ impl Interp {
     fn call_proc(&mut self, p: &Proc, argv: &[Value]) -> TclResult {
         // The words before the arguments: the name, or `apply` and the term.
         let skip = if p.lambda.is_some() { 2 } else { 1 };
-        let mut vars: FxHashMap<Rc<str>, VarCell> = FxHashMap::default();
+        let mut vars = VarMap::default();
         let n_args = argv.len() - skip;
         let n_fixed = p.params.len() - p.variadic as usize;
         for (i, (name, default)) in p.params.iter().enumerate().take(n_fixed) {
@@ -1062,6 +1065,9 @@ impl Interp {
 
     /// Sets a variable given as `name` or `name(index)`; returns the value.
     pub fn set_var(&mut self, name: &str, v: Value) -> TclResult {
+        if name.ends_with("tcl_precision") {
+            set_precision(name, &v)?;
+        }
         let r = self.set_var_untraced(name, v)?;
         if self.var_traces.is_empty() {
             return Ok(r);
@@ -1229,7 +1235,7 @@ impl Interp {
         // linked variable, as in Tcl.
         if Rc::strong_count(&cell) <= 2 {
             let (frame, local) = self.frame_for(base);
-            self.frames[frame].vars.remove(local.as_str());
+            self.frames[frame].vars.shift_remove(local.as_str());
         }
         Ok(())
     }
@@ -1356,6 +1362,7 @@ impl Interp {
             let _ = i.set_var(name, Value::from(v));
         };
         set(self, "tcl_version", TCL_VERSION);
+        set(self, "tcl_precision", "0");
         set(self, "tcl_patchLevel", TCL_PATCHLEVEL);
         let byte_order = if cfg!(target_endian = "little") { "littleEndian" } else { "bigEndian" };
         let pointer = std::mem::size_of::<usize>().to_string();
@@ -1409,6 +1416,23 @@ fn call_numeric(
         Some(n) => Value::from_num(n),
         None => Value::empty(),
     })
+}
+
+/// `set tcl_precision N`: doubles print with N significant digits
+/// (0, the default, is the shortest that reads back), as Tcl's own trace
+/// on the variable does it.
+#[cold]
+fn set_precision(name: &str, v: &Value) -> Result<(), Exception> {
+    if name != "tcl_precision" && name != "::tcl_precision" {
+        return Ok(());
+    }
+    match v.as_str().trim().parse::<usize>() {
+        Ok(n) if n <= 17 => {
+            super::number::set_precision(n);
+            Ok(())
+        }
+        _ => Err(Exception::error(format!("can't set \"{name}\": improper value for precision"))),
+    }
 }
 
 fn too_deep() -> Exception {

@@ -297,6 +297,23 @@ pub fn int_error(s: &str) -> Exception {
 /// back to the same double, in `%g`-like layout with a 17-digit threshold,
 /// and always with a `.` or exponent so it stays a double.
 pub fn format_double(d: f64) -> String {
+    format_double_digits(d, PRECISION.get())
+}
+
+thread_local! {
+    /// `tcl_precision`: significant digits for doubles (0: the shortest
+    /// that read back).
+    static PRECISION: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// Sets `tcl_precision` for this thread's interpreter (0 to 17).
+pub fn set_precision(digits: usize) {
+    PRECISION.set(digits.min(17));
+}
+
+/// `format_double` with `precision` significant digits (trailing zeros
+/// trimmed), or the shortest that read back for 0, as Tcl_PrintDouble.
+pub fn format_double_digits(d: f64, precision: usize) -> String {
     if d.is_nan() {
         return "NaN".into();
     }
@@ -309,11 +326,15 @@ pub fn format_double(d: f64) -> String {
     // The shortest digits that read back; then the same number of digits
     // correctly rounded (ties to even), which is what Tcl (David Gay's
     // dtoa) prints when two candidates are equally close.
-    let shortest = format!("{d:e}");
-    let n_digits = shortest
-        .split_once('e')
-        .map(|(m, _)| m.bytes().filter(u8::is_ascii_digit).count())
-        .unwrap_or(1);
+    let n_digits = if precision > 0 {
+        precision
+    } else {
+        let shortest = format!("{d:e}");
+        shortest
+            .split_once('e')
+            .map(|(m, _)| m.bytes().filter(u8::is_ascii_digit).count())
+            .unwrap_or(1)
+    };
     let e = format!("{:.*e}", n_digits.saturating_sub(1), d);
     let (mant, exp) = e.split_once('e').expect("LowerExp always writes an exponent");
     let exp: i32 = exp.parse().expect("LowerExp writes a decimal exponent");
@@ -321,7 +342,10 @@ pub fn format_double(d: f64) -> String {
         Some(m) => (true, m),
         None => (false, mant),
     };
-    let digits: String = mant.chars().filter(|c| *c != '.').collect();
+    let mut digits: String = mant.chars().filter(|c| *c != '.').collect();
+    while digits.len() > 1 && digits.ends_with('0') {
+        digits.pop();
+    }
     let mut out = String::with_capacity(24);
     if neg {
         out.push('-');
@@ -334,6 +358,10 @@ pub fn format_double(d: f64) -> String {
         }
         out.push('e');
         out.push(if exp < 0 { '-' } else { '+' });
+        // Two exponent digits at least under tcl_precision, as Tcl 8.4.
+        if precision > 0 && exp.abs() < 10 {
+            out.push('0');
+        }
         out.push_str(&exp.abs().to_string());
     } else if exp < 0 {
         out.push_str("0.");

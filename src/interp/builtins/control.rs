@@ -995,6 +995,23 @@ fn command_list(interp: &Interp, keys: Vec<String>, pattern: Option<&str>) -> Va
     filter(names, None)
 }
 
+/// The globals tclsh 8.6 starts with, which size its table.
+const TCLSH_GLOBALS: &[&str] = &[
+    "tcl_rcFileName",
+    "tcl_version",
+    "argv0",
+    "argv",
+    "tcl_interactive",
+    "auto_path",
+    "auto_index",
+    "env",
+    "tcl_pkgPath",
+    "tcl_patchLevel",
+    "argc",
+    "tcl_library",
+    "tcl_platform",
+];
+
 fn filter(names: Vec<String>, pattern: Option<&Value>) -> Value {
     let items = names
         .into_iter()
@@ -1124,14 +1141,38 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 return Ok(Value::empty());
             }
             let links = &interp.frames[frame].links;
-            let mut names: Vec<String> = interp.frames[frame]
+            let defined = interp.frames[frame]
                 .vars
                 .iter()
                 .filter(|(_, c)| !matches!(*c.borrow(), Var::Undefined))
-                .filter(|(k, _)| sub != "locals" || !links.contains(k))
-                .map(|(k, _)| k.to_string())
-                .collect();
-            names.sort();
+                .map(|(k, _)| &**k);
+            if frame != 0 {
+                // A proc's variables in the order they were made.
+                let names =
+                    defined.filter(|k| sub != "locals" || !links.iter().any(|l| &**l == *k));
+                return Ok(filter(names.map(str::to_string).collect(), args.first()));
+            }
+            // A namespace's table: `info vars ns::*` names them in full.
+            let pattern = args.first().map(Value::as_str);
+            if let Some((ns, pat)) = pattern.and_then(|p| p.rsplit_once("::")) {
+                let ns = ns.trim_start_matches(':');
+                let names: Vec<&str> = defined
+                    .filter(|k| k.rsplit_once("::").map_or("", |(n, _)| n) == ns)
+                    .filter(|k| glob_match(pat, k.rsplit("::").next().unwrap_or(k), false))
+                    .collect();
+                let ordered = super::tcl_hash_order(
+                    names.into_iter().map(|k| (k.rsplit("::").next().unwrap_or(k), k)),
+                );
+                return Ok(filter(ordered.into_iter().map(|k| format!("::{k}")).collect(), None));
+            }
+            // The global table in Tcl's hash order, as tclsh fills it: its
+            // startup variables first (their number sets the table size).
+            let ours: Vec<&str> = defined.filter(|k| !k.contains("::")).collect();
+            let startup = TCLSH_GLOBALS.iter().copied().filter(|k| !ours.contains(k));
+            let order = super::tcl_hash_order(
+                startup.map(|k| (k, None)).chain(ours.iter().map(|k| (*k, Some(*k)))),
+            );
+            let names = order.into_iter().flatten().map(str::to_string).collect();
             Ok(filter(names, args.first()))
         }
         "script" => Ok(interp.script_file.as_deref().map(Value::from).unwrap_or_else(Value::empty)),
