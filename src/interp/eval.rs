@@ -226,6 +226,27 @@ pub struct Interp {
     pub(crate) var_traces: super::builtins::VarTraceTable,
     /// `trace add command` and `trace add execution`.
     pub(crate) cmd_traces: super::builtins::CmdTraces,
+    /// Coroutines, by command key, and the one running now with the index
+    /// of its first frame (see builtins/coro.rs).
+    pub(crate) coroutines: super::builtins::Coroutines,
+    pub(crate) current_coro: Option<Rc<str>>,
+    pub(crate) coro_base: usize,
+}
+
+/// The host of an interpreter whose state has been moved out (into or out
+/// of a coroutine's stack): nowhere to write.
+struct NoHost;
+
+impl Host for NoHost {
+    fn stdout(&mut self, _: &str) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn stderr(&mut self, _: &str) -> std::io::Result<()> {
+        Ok(())
+    }
+    fn read_file(&mut self, path: &str) -> std::io::Result<String> {
+        Err(std::io::Error::other(format!("no host to read {path}")))
+    }
 }
 
 fn truncate_cmd(text: &str) -> String {
@@ -252,7 +273,17 @@ pub(crate) fn split_var_name(name: &str) -> (&str, Option<&str>) {
 
 impl Interp {
     pub fn new(host: Box<dyn Host>) -> Interp {
-        let mut interp = Interp {
+        let mut interp = Interp::hollow(host);
+        interp.seed_rand(0);
+        super::builtins::register_all(&mut interp);
+        interp.set_tcl_globals();
+        interp
+    }
+
+    /// An interpreter with no commands or variables: what is left in
+    /// place while the real one runs a coroutine on its own stack.
+    pub(crate) fn hollow(host: Box<dyn Host>) -> Interp {
+        Interp {
             commands: FxHashMap::default(),
             cmd_epoch: 0,
             frames: vec![Frame {
@@ -287,11 +318,15 @@ impl Interp {
             fs_policy: None,
             var_traces: Default::default(),
             cmd_traces: Default::default(),
-        };
-        interp.seed_rand(0);
-        super::builtins::register_all(&mut interp);
-        interp.set_tcl_globals();
-        interp
+            coroutines: Default::default(),
+            current_coro: None,
+            coro_base: 0,
+        }
+    }
+
+    /// `hollow` with nowhere to write.
+    pub(crate) fn placeholder() -> Interp {
+        Interp::hollow(Box::new(NoHost))
     }
 
     // -- Commands ----------------------------------------------------------
@@ -490,6 +525,10 @@ impl Interp {
         }
         if !self.cmd_traces.is_empty() {
             self.fire_rename_traces(old, new);
+        }
+        if new.is_empty() {
+            // A deleted coroutine's stack unwinds when it is dropped.
+            self.delete_coroutine(old);
         }
         Ok(())
     }

@@ -1211,7 +1211,7 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 "hostname" => Value::from(
                     std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap_or_default().trim(),
                 ),
-                _ => Value::empty(),
+                _ => super::coro::info_coroutine(interp),
             })
         }
         "class" | "object" | "frame" | "errorstack" => {
@@ -1233,6 +1233,15 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn cmd_rename(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 3, 3, "oldName newName")?;
-    interp.rename_command(argv[1].as_str(), argv[2].as_str())?;
+    let (old, new) = (argv[1].as_str(), argv[2].as_str());
+    // Names resolve as commands do: qualified, or here then globally.
+    let Some(key) = interp.command_key(old) else {
+        return Err(Exception::error(format!("can't rename \"{old}\": command doesn't exist")));
+    };
+    let new_key = if new.is_empty() { String::new() } else { interp.qualify_command(new) };
+    if !new_key.is_empty() && interp.has_exact_command(&new_key) {
+        return Err(Exception::error(format!("can't rename to \"{new}\": command already exists")));
+    }
+    interp.rename_command(&key, &new_key)?;
     Ok(Value::empty())
 }

@@ -4,6 +4,7 @@
 mod binary;
 mod chan;
 mod control;
+pub(crate) mod coro;
 mod dict;
 mod exec;
 mod file;
@@ -32,6 +33,7 @@ pub fn subcommands(command: &str) -> Option<&'static [&'static str]> {
 
 pub(crate) use chan::Channels;
 pub(crate) use control::with_body_line;
+pub(crate) use coro::Coroutines;
 pub use package::{Packages, TCL_PATCHLEVEL, TCL_VERSION};
 pub(crate) use trace::{CmdTraces, VarTraceTable};
 
@@ -42,7 +44,7 @@ use super::value::Value;
 type Entry = (&'static str, NativeFn, &'static str, &'static str);
 
 pub(crate) fn register_all(interp: &mut Interp) {
-    let tables: [&[Entry]; 15] = [
+    let tables: [&[Entry]; 16] = [
         binary::COMMANDS,
         chan::COMMANDS,
         control::COMMANDS,
@@ -58,6 +60,7 @@ pub(crate) fn register_all(interp: &mut Interp) {
         namespace::COMMANDS,
         trace::COMMANDS,
         exec::COMMANDS,
+        coro::COMMANDS,
     ];
     for table in tables {
         for (name, f, usage, summary) in table {
