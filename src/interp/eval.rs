@@ -277,6 +277,8 @@ impl Interp {
         interp.seed_rand(0);
         super::builtins::register_all(&mut interp);
         interp.set_tcl_globals();
+        interp.eval_str(super::builtins::PARRAY).expect("parray's definition runs");
+        interp.set_help("parray", "arrayName ?pattern?", "print an array's elements");
         interp
     }
 
@@ -495,7 +497,7 @@ impl Interp {
     }
 
     pub(crate) fn get_proc(&self, name: &str) -> Option<Rc<Proc>> {
-        match self.commands.get(name) {
+        match self.resolve_command(name) {
             Some(CommandKind::Proc(p)) => Some(p.clone()),
             _ => None,
         }
@@ -783,6 +785,13 @@ impl Interp {
         let found = self.resolve_command(argv[0].as_str());
         let cmd = match found {
             Some(c) => c.clone(),
+            None if argv[0].as_str() != "unknown" && self.resolve_command("unknown").is_some() => {
+                // A script's `unknown` handler gets the whole command.
+                let mut words = Vec::with_capacity(argv.len() + 1);
+                words.push(Value::from("unknown"));
+                words.extend(argv.iter().cloned());
+                return self.invoke(&words);
+            }
             None => {
                 return Err(Exception::error(format!(
                     "invalid command name \"{}\"",

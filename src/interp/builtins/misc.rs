@@ -13,7 +13,6 @@ pub(super) const COMMANDS: &[super::Entry] = &[
     ("clock", cmd_clock, "subcommand ?arg ...?", "the time: seconds, milliseconds, format..."),
     ("after", cmd_after, "ms", "wait ms milliseconds"),
     ("tailcall", cmd_tailcall, "command ?arg ...?", "replace this proc's call by a command's"),
-    ("parray", cmd_parray, "arrayName ?pattern?", "print an array's elements"),
     ("encoding", cmd_encoding, "subcommand ?arg ...?", "convert between strings and bytes"),
 ];
 
@@ -519,28 +518,23 @@ fn cmd_tailcall(interp: &mut Interp, argv: &[Value]) -> TclResult {
     Err(e)
 }
 
-fn cmd_parray(interp: &mut Interp, argv: &[Value]) -> TclResult {
-    check_args(argv, 2, 3, "arrayName ?pattern?")?;
-    let name = argv[1].as_str();
-    let mut words = vec![Value::from("array"), Value::from("names"), argv[1].clone()];
-    words.extend(argv.get(2).cloned());
-    let names = interp.invoke(&[Value::from("array"), Value::from("exists"), argv[1].clone()])?;
-    if !names.as_bool()? {
-        return Err(Exception::error(format!("\"{name}\" isn't an array")));
+/// `parray`, a proc as in Tcl (whose library defines it in Tcl, so
+/// scripts may read `info body parray`, as tcltest does).
+pub(crate) const PARRAY: &str = r#"proc parray {a {pattern *}} {
+    upvar 1 $a array
+    if {![array exists array]} {
+        return -code error "\"$a\" isn't an array"
     }
-    let mut keys: Vec<String> =
-        interp.invoke(&words)?.as_list()?.iter().map(|k| k.as_str().to_string()).collect();
-    keys.sort();
-    let width = keys.iter().map(|k| name.chars().count() + k.chars().count() + 2).max();
-    let mut out = String::new();
-    for k in &keys {
-        let label = format!("{name}({k})");
-        let v = interp.get_var(&label)?;
-        out.push_str(&format!("{label:<w$} = {}\n", v.as_str(), w = width.unwrap_or(0)));
+    set names [lsort [array names array $pattern]]
+    set width 0
+    foreach name $names {
+        set width [expr {max($width, [string length $name])}]
     }
-    interp.write_stdout(&out)?;
-    Ok(Value::empty())
-}
+    set width [expr {$width + [string length $a] + 2}]
+    foreach name $names {
+        puts stdout [format "%-*s = %s" $width [format %s(%s) $a $name] $array($name)]
+    }
+}"#;
 
 fn cmd_encoding(_: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;

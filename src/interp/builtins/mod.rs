@@ -34,6 +34,7 @@ pub fn subcommands(command: &str) -> Option<&'static [&'static str]> {
 pub(crate) use chan::Channels;
 pub(crate) use control::with_body_line;
 pub(crate) use coro::Coroutines;
+pub(crate) use misc::PARRAY;
 pub use package::{Packages, TCL_PATCHLEVEL, TCL_VERSION};
 pub(crate) use trace::{CmdTraces, VarTraceTable};
 

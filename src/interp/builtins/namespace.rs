@@ -121,10 +121,14 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
             if !exists(interp, &ns) {
                 return Err(not_found(a[0].as_str()));
             }
-            let mut words = a[1].as_list()?.to_vec();
-            words.extend(a[2..].iter().cloned());
-            let script = Value::from_list(words);
-            let text = if a.len() == 2 { a[1].clone() } else { script };
+            // The extra words join the script as `concat` joins them (the
+            // script stays a script: `cmd $x ;#` keeps its `;#`).
+            let text = if a.len() == 2 {
+                a[1].clone()
+            } else {
+                let rest = Value::from_list(a[2..].to_vec());
+                Value::from_string(format!("{} {}", a[1].as_str().trim(), rest.as_str()))
+            };
             within(interp, &ns, |i| i.eval(&text))
         }
         "code" => {
@@ -262,10 +266,13 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
                     return Err(not_found(&p[..p.rfind("::").unwrap_or(0)]));
                 }
                 let prefix = if from.is_empty() { String::new() } else { format!("{from}::") };
+                // Only what the namespace exports.
+                let exported = interp.exports.get(&from).cloned().unwrap_or_default();
                 for name in interp.command_names() {
                     if let Some(t) = name.strip_prefix(&prefix)
                         && !t.contains("::")
                         && glob_match(tail, t, false)
+                        && exported.iter().any(|e| glob_match(e, t, false))
                     {
                         let target = interp.qualify_command(t);
                         if target == name {

@@ -12,12 +12,27 @@ use crate::interp::error::{Exception, TclResult};
 use crate::interp::eval::Interp;
 use crate::interp::value::Value;
 
-pub(super) const COMMANDS: &[super::Entry] = &[(
-    "package",
-    cmd_package,
-    "subcommand ?arg ...?",
-    "load and describe packages (require, provide, vsatisfies...)",
-)];
+pub(super) const COMMANDS: &[super::Entry] = &[
+    (
+        "package",
+        cmd_package,
+        "subcommand ?arg ...?",
+        "load and describe packages (require, provide, vsatisfies...)",
+    ),
+    (
+        "auto_load",
+        cmd_auto_load,
+        "cmd ?namespace?",
+        "whether a command is defined (rayshell has no auto_index to load from)",
+    ),
+];
+
+/// `auto_load`: Tcl loads a command named in `auto_index`; rayshell ships
+/// no script library, so it answers whether the command exists already.
+fn cmd_auto_load(interp: &mut Interp, argv: &[Value]) -> TclResult {
+    super::check_args(argv, 2, 3, "cmd ?namespace?")?;
+    Ok(Value::from_bool(interp.has_command(argv[1].as_str())))
+}
 
 const SUBCOMMANDS: &[&str] = &[
     "forget",

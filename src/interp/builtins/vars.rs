@@ -144,7 +144,23 @@ fn cmd_upvar(interp: &mut Interp, argv: &[Value]) -> TclResult {
         return Err(Exception::wrong_args(&format!("upvar {usage}")));
     }
     for pair in rest.chunks(2) {
-        interp.link_var(frame, pair[0].as_str(), pair[1].as_str())?;
+        let (other, local) = (pair[0].as_str(), pair[1].as_str());
+        if frame == 0 && interp.cur == 0 && !interp.ns.is_empty() {
+            // In `namespace eval`: both names are the namespace's.
+            let (base, elem) = super::super::eval::split_var_name(other);
+            let mut full = format!("::{}", interp.qualify_var(base));
+            if let Some(e) = elem {
+                full = format!("{full}({e})");
+            }
+            let local = if local.contains("::") {
+                local.trim_start_matches(':').to_string()
+            } else {
+                format!("{}::{local}", interp.ns)
+            };
+            interp.link_var(0, &full, &local)?;
+            continue;
+        }
+        interp.link_var(frame, other, local)?;
     }
     Ok(Value::empty())
 }
