@@ -64,6 +64,10 @@
 //! - Of hits within `bvh::TIE` of each other, the primitive added to the
 //!   scene first wins: coplanar surfaces resolve the same way for any tree
 //!   (still or moving), walk order, lane or thread count.
+//! - A Tcl coroutine runs on its own native stack and the `Interp` moves by
+//!   value between it and its resumer (`interp/builtins/coro.rs`): nothing
+//!   keeps a reference into the `Interp` across a `yield`, and a variable
+//!   trace or a coroutine never needs `unsafe`.
 //! - A ray carries its time; every ray spawned from it keeps it.
 //! - An object is entered by its inverse transform with the direction left
 //!   unnormalized, so a hit's `t` is the same in every coordinate system;

@@ -231,6 +231,8 @@ pub struct Interp {
     pub(crate) coroutines: super::builtins::Coroutines,
     pub(crate) current_coro: Option<Rc<str>>,
     pub(crate) coro_base: usize,
+    /// `namespace path`: each namespace's list of namespaces to look in.
+    pub(crate) ns_paths: FxHashMap<String, Vec<String>>,
 }
 
 /// The host of an interpreter whose state has been moved out (into or out
@@ -323,6 +325,7 @@ impl Interp {
             coroutines: Default::default(),
             current_coro: None,
             coro_base: 0,
+            ns_paths: FxHashMap::default(),
         }
     }
 
@@ -402,7 +405,25 @@ impl Interp {
         {
             return Some(c);
         }
+        if !self.ns_paths.is_empty()
+            && let Some(c) = self.command_on_path(name)
+        {
+            return Some(c);
+        }
         self.commands.get(name)
+    }
+
+    /// A command found through the current namespace's `namespace path`.
+    #[cold]
+    fn command_on_path(&self, name: &str) -> Option<&CommandKind> {
+        let path = self.ns_paths.get(&*self.ns)?;
+        path.iter().find_map(|ns| {
+            if ns.is_empty() {
+                self.commands.get(name)
+            } else {
+                self.commands.get(&format!("{ns}::{name}"))
+            }
+        })
     }
 
     /// The table key of the command a name means here.
@@ -414,6 +435,14 @@ impl Interp {
             let k = format!("{}::{name}", self.ns);
             if self.commands.contains_key(&k) {
                 return Some(k);
+            }
+        }
+        if let Some(path) = self.ns_paths.get(&*self.ns) {
+            for ns in path {
+                let k = if ns.is_empty() { name.to_string() } else { format!("{ns}::{name}") };
+                if self.commands.contains_key(&k) {
+                    return Some(k);
+                }
             }
         }
         self.commands.contains_key(name).then(|| name.to_string())

@@ -5,4 +5,4 @@ puts [lsort [info globals g*]]
 puts [info globals g*]
 namespace eval ns { variable v1 1; variable v2 2; variable a 3 }
 puts [info vars ns::*]
-puts [info procs p*]
+puts [info procs p]

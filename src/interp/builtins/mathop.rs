@@ -61,6 +61,11 @@ pub(crate) fn register(interp: &mut Interp) {
     for ns in ["tcl", "tcl::mathop", "tcl::mathfunc"] {
         interp.namespaces.insert(ns.to_string());
     }
+    // What they export, as in Tcl (`namespace import ::tcl::mathop::*`).
+    interp.exports.insert("tcl::mathop".into(), vec!["*".into()]);
+    interp
+        .exports
+        .insert("tcl::mathfunc".into(), Func::NAMES.iter().map(|n| n.to_string()).collect());
 }
 
 /// The last `::` part of the name a command was called by.

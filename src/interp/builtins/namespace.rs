@@ -327,7 +327,36 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
             Ok(Value::empty())
         }
         // Forgetting imports and search paths are accepted and not used.
-        "forget" | "path" | "unknown" => Ok(Value::empty()),
+        "path" => {
+            // `namespace path ?list?`: where commands not found in the
+            // current namespace are looked for, before the global one.
+            if a.len() > 1 {
+                return Err(usage("?pathList?"));
+            }
+            let here = interp.ns.to_string();
+            let Some(list) = a.first() else {
+                let path = interp.ns_paths.get(&here).cloned().unwrap_or_default();
+                return Ok(Value::from_list(
+                    path.iter().map(|p| Value::from_string(shown(p))).collect(),
+                ));
+            };
+            let mut path = Vec::new();
+            for item in list.as_list()?.iter() {
+                let ns = absolute(interp, item.as_str());
+                if !exists(interp, &ns) {
+                    return Err(not_found(item.as_str()));
+                }
+                path.push(ns);
+            }
+            interp.cmd_epoch += 1;
+            if path.is_empty() {
+                interp.ns_paths.remove(&here);
+            } else {
+                interp.ns_paths.insert(here, path);
+            }
+            Ok(Value::empty())
+        }
+        "forget" | "unknown" => Ok(Value::empty()),
         _ => unreachable!("every subcommand is handled"),
     }
 }
