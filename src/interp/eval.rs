@@ -276,6 +276,14 @@ pub(crate) fn split_var_name(name: &str) -> (&str, Option<&str>) {
 impl Interp {
     pub fn new(host: Box<dyn Host>) -> Interp {
         let mut interp = Interp::hollow(host);
+        interp.frames.push(Frame {
+            ns: Rc::from(""),
+            vars: VarMap::default(),
+            level: 0,
+            caller: 0,
+            objv: Vec::new(),
+            links: Vec::new(),
+        });
         interp.seed_rand(0);
         super::builtins::register_all(&mut interp);
         interp.set_tcl_globals();
@@ -284,20 +292,13 @@ impl Interp {
         interp
     }
 
-    /// An interpreter with no commands or variables: what is left in
-    /// place while the real one runs a coroutine on its own stack.
+    /// An interpreter with no commands, variables or frames: what is left
+    /// in place while the real one runs a coroutine on its own stack.
     pub(crate) fn hollow(host: Box<dyn Host>) -> Interp {
         Interp {
             commands: FxHashMap::default(),
             cmd_epoch: 0,
-            frames: vec![Frame {
-                ns: Rc::from(""),
-                vars: VarMap::default(),
-                level: 0,
-                caller: 0,
-                objv: Vec::new(),
-                links: Vec::new(),
-            }],
+            frames: Vec::new(),
             cur: 0,
             depth: 0,
             levels: 0,
@@ -416,14 +417,16 @@ impl Interp {
     /// A command found through the current namespace's `namespace path`.
     #[cold]
     fn command_on_path(&self, name: &str) -> Option<&CommandKind> {
+        self.commands.get(&self.path_key(name)?)
+    }
+
+    /// The table key of the first command `name` names along the current
+    /// namespace's `namespace path`.
+    fn path_key(&self, name: &str) -> Option<String> {
         let path = self.ns_paths.get(&*self.ns)?;
-        path.iter().find_map(|ns| {
-            if ns.is_empty() {
-                self.commands.get(name)
-            } else {
-                self.commands.get(&format!("{ns}::{name}"))
-            }
-        })
+        path.iter()
+            .map(|ns| if ns.is_empty() { name.to_string() } else { format!("{ns}::{name}") })
+            .find(|k| self.commands.contains_key(k))
     }
 
     /// The table key of the command a name means here.
@@ -437,13 +440,10 @@ impl Interp {
                 return Some(k);
             }
         }
-        if let Some(path) = self.ns_paths.get(&*self.ns) {
-            for ns in path {
-                let k = if ns.is_empty() { name.to_string() } else { format!("{ns}::{name}") };
-                if self.commands.contains_key(&k) {
-                    return Some(k);
-                }
-            }
+        if !self.ns_paths.is_empty()
+            && let Some(k) = self.path_key(name)
+        {
+            return Some(k);
         }
         self.commands.contains_key(name).then(|| name.to_string())
     }
@@ -497,6 +497,21 @@ impl Interp {
             return f.to_string();
         }
         key.into_owned()
+    }
+
+    /// The table key a command made under `name` gets (`proc`,
+    /// `coroutine`), refused when its namespace does not exist.
+    pub(crate) fn new_command_key(&self, name: &str) -> Result<String, Exception> {
+        let key = self.qualify_command(name);
+        if let Some((ns, _)) = key.rsplit_once("::")
+            && !ns.is_empty()
+            && !self.namespaces.contains(ns)
+        {
+            return Err(Exception::error(format!(
+                "can't create procedure \"{name}\": unknown namespace"
+            )));
+        }
+        Ok(key)
     }
 
     /// The table key a command defined under `name` gets here.

@@ -480,16 +480,7 @@ fn cmd_switch(interp: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_proc(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 4, 4, "name args body")?;
     let (params, variadic) = parse_params(&argv[2])?;
-    let name = interp.qualify_command(argv[1].as_str());
-    if let Some((ns, _)) = name.rsplit_once("::")
-        && !ns.is_empty()
-        && !interp.namespaces.contains(ns)
-    {
-        return Err(Exception::error(format!(
-            "can't create procedure \"{}\": unknown namespace",
-            argv[1].as_str()
-        )));
-    }
+    let name = interp.new_command_key(argv[1].as_str())?;
     // It runs in the namespace its name is in.
     let ns: Rc<str> = Rc::from(name.rsplit_once("::").map_or("", |(n, _)| n));
     interp.define_proc(Proc {

@@ -232,16 +232,7 @@ fn cmd_coroutine(interp: &mut Interp, argv: &[Value]) -> TclResult {
             "too many coroutines: rayshell keeps at most {MAX_COROUTINES} alive"
         )));
     }
-    let key: Rc<str> = Rc::from(interp.qualify_command(argv[1].as_str()));
-    if let Some((ns, _)) = key.rsplit_once("::")
-        && !ns.is_empty()
-        && !interp.namespaces.contains(ns)
-    {
-        return Err(Exception::error(format!(
-            "can't create procedure \"{}\": unknown namespace",
-            argv[1].as_str()
-        )));
-    }
+    let key: Rc<str> = Rc::from(interp.new_command_key(argv[1].as_str())?);
     // A failure to map the stack is an error, not a crash.
     let co =
         std::panic::catch_unwind(|| generator::Gn::<Resume>::new_opt(STACK_BYTES / 8, coro_main))
