@@ -12,6 +12,7 @@ use indexmap::IndexMap;
 use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
+use super::compile::{self, CompiledProc, Outcome};
 use super::error::{Code, Exception, Loc, TclResult};
 use super::expr::{self, Expr, Operand};
 use super::number::Num;
@@ -104,6 +105,8 @@ pub struct Proc {
     pub(crate) lambda: Option<Value>,
     /// The namespace it runs in.
     pub(crate) ns: Rc<str>,
+    /// Its compiled body, made at the first call (`compile.rs`).
+    pub(crate) compiled: RefCell<Option<Rc<CompiledProc>>>,
 }
 
 /// What the interpreter needs from the outside world.
@@ -171,6 +174,66 @@ pub(crate) struct Frame {
     /// Names made links by `upvar`, `global` or `variable` (which `info
     /// locals` leaves out).
     pub(crate) links: Vec<Rc<str>>,
+    /// A compiled proc's locals (`compile.rs`): `slots[i]` holds the
+    /// variable named `names[i]` (`None`: it does not exist), so compiled
+    /// code reaches it by index; every other name lives in `vars`.
+    pub(crate) names: Option<Rc<[Rc<str>]>>,
+    pub(crate) slots: Vec<Option<VarCell>>,
+}
+
+impl Frame {
+    pub(crate) fn new(ns: Rc<str>, level: usize, caller: usize, objv: Vec<Value>) -> Frame {
+        Frame {
+            ns,
+            vars: VarMap::default(),
+            level,
+            caller,
+            objv,
+            links: Vec::new(),
+            names: None,
+            slots: Vec::new(),
+        }
+    }
+
+    #[inline]
+    fn slot_of(&self, name: &str) -> Option<usize> {
+        self.names.as_ref()?.iter().position(|n| &**n == name)
+    }
+
+    /// The variable a name means in this frame, if it exists.
+    #[inline]
+    pub(crate) fn get(&self, name: &str) -> Option<&VarCell> {
+        match self.slot_of(name) {
+            Some(i) => self.slots[i].as_ref(),
+            None => self.vars.get(name),
+        }
+    }
+
+    pub(crate) fn insert(&mut self, name: Rc<str>, cell: VarCell) {
+        match self.slot_of(&name) {
+            Some(i) => self.slots[i] = Some(cell),
+            None => {
+                self.vars.insert(name, cell);
+            }
+        }
+    }
+
+    pub(crate) fn remove(&mut self, name: &str) {
+        match self.slot_of(name) {
+            Some(i) => self.slots[i] = None,
+            None => {
+                self.vars.shift_remove(name);
+            }
+        }
+    }
+
+    /// Every variable of the frame: the compiled locals in their order,
+    /// then the others in the order they were made (as Tcl lists them).
+    pub(crate) fn entries(&self) -> impl Iterator<Item = (&Rc<str>, &VarCell)> {
+        let names = self.names.as_deref().unwrap_or(&[]);
+        let slots = names.iter().zip(&self.slots).filter_map(|(n, c)| Some((n, c.as_ref()?)));
+        slots.chain(self.vars.iter())
+    }
 }
 
 /// The `errorCode` of an interrupted script.
@@ -180,6 +243,12 @@ pub struct Interp {
     pub(crate) commands: FxHashMap<String, CommandKind>,
     /// Bumped on every change to `commands`, so lookups can be cached.
     pub(crate) cmd_epoch: u64,
+    /// Bumped when a command that `compile.rs` compiles inline may have
+    /// changed meaning (Tcl's compile epoch): compiled bodies recompile.
+    pub(crate) inline_epoch: u64,
+    /// The builtins compiled inline, as registered (see
+    /// `is_original_builtin`).
+    inline_builtins: Vec<(&'static str, NativeFn)>,
     pub(crate) frames: Vec<Frame>,
     /// Index into `frames` of the frame whose variables are visible now.
     pub(crate) cur: usize,
@@ -276,16 +345,16 @@ pub(crate) fn split_var_name(name: &str) -> (&str, Option<&str>) {
 impl Interp {
     pub fn new(host: Box<dyn Host>) -> Interp {
         let mut interp = Interp::hollow(host);
-        interp.frames.push(Frame {
-            ns: Rc::from(""),
-            vars: VarMap::default(),
-            level: 0,
-            caller: 0,
-            objv: Vec::new(),
-            links: Vec::new(),
-        });
+        interp.frames.push(Frame::new(Rc::from(""), 0, 0, Vec::new()));
         interp.seed_rand(0);
         super::builtins::register_all(&mut interp);
+        interp.inline_builtins = compile::INLINE_OPS
+            .iter()
+            .filter_map(|&n| match interp.commands.get(n) {
+                Some(CommandKind::Native(f, _)) => Some((n, *f)),
+                _ => None,
+            })
+            .collect();
         interp.set_tcl_globals();
         interp.eval_str(super::builtins::PARRAY).expect("parray's definition runs");
         interp.set_help("parray", "arrayName ?pattern?", "print an array's elements");
@@ -298,6 +367,8 @@ impl Interp {
         Interp {
             commands: FxHashMap::default(),
             cmd_epoch: 0,
+            inline_epoch: 0,
+            inline_builtins: Vec::new(),
             frames: Vec::new(),
             cur: 0,
             depth: 0,
@@ -339,7 +410,28 @@ impl Interp {
 
     fn set_command(&mut self, name: String, cmd: CommandKind) {
         self.cmd_epoch += 1;
+        self.touch_inline(&name);
         self.commands.insert(name, cmd);
+    }
+
+    /// Notes that the command under table key `key` changes: compiled
+    /// bodies recompile if it is one of the commands they inline.
+    pub(crate) fn touch_inline(&mut self, key: &str) {
+        let tail = key.rsplit("::").next().unwrap_or(key);
+        if compile::INLINE_OPS.contains(&tail) {
+            self.inline_epoch += 1;
+        }
+    }
+
+    /// Whether `name`, looked up here, is the builtin registered under
+    /// that name (not a proc or another command renamed to it).
+    pub(crate) fn is_original_builtin(&self, name: &str) -> bool {
+        let Some((_, f)) = self.inline_builtins.iter().find(|(n, _)| *n == name) else {
+            return false;
+        };
+        self.command_key(name).as_deref() == Some(name)
+            && matches!(self.commands.get(name),
+                Some(CommandKind::Native(g, _)) if std::ptr::fn_addr_eq(*f, *g))
     }
 
     pub fn register(&mut self, name: &str, f: NativeFn, usage: &str, summary: &str) {
@@ -474,6 +566,7 @@ impl Interp {
     /// `namespace delete`: the commands and variables under a prefix.
     pub(crate) fn forget_prefix(&mut self, prefix: &str) {
         self.cmd_epoch += 1;
+        self.inline_epoch += 1;
         self.commands.retain(|k, _| !k.starts_with(prefix));
         self.frames[0].vars.retain(|k, _| !k.starts_with(prefix));
     }
@@ -557,6 +650,8 @@ impl Interp {
 
     pub(crate) fn rename_command(&mut self, old: &str, new: &str) -> Result<(), Exception> {
         self.cmd_epoch += 1;
+        self.touch_inline(old);
+        self.touch_inline(new);
         let cmd = self.commands.remove(old).ok_or_else(|| {
             Exception::error(format!("can't rename \"{old}\": command doesn't exist"))
         })?;
@@ -660,14 +755,7 @@ impl Interp {
         let direct = std::mem::replace(&mut self.direct, false);
         let r = self.eval_script(&s);
         self.direct = direct;
-        r.map_err(|mut e| {
-            if e.abs_line > 0 {
-                e.script_line = (e.abs_line + 1).saturating_sub(s.first_line).max(1);
-            }
-            e.logged = false;
-            e.abs_line = 0;
-            e
-        })
+        r.map_err(|e| end_unit(e, s.first_line))
     }
 
     /// Evaluates the body of a command that Tcl compiles into the script
@@ -750,7 +838,8 @@ impl Interp {
             match p {
                 Part::Lit(s) => out.push_str(s),
                 Part::Var(name) => out.push_str(self.get_var_name(name)?.as_str()),
-                Part::Cmd(s) => match self.eval_nested(s) {
+                Part::Local(i, name) => out.push_str(self.read_local(*i, name)?.as_str()),
+                Part::Cmd(_) | Part::Compiled(_) => match self.eval_part_cmd(p) {
                     Ok(v) => out.push_str(v.as_str()),
                     Err(e) => match e.code {
                         Code::Error | Code::Exit(_) => return Err(e),
@@ -769,6 +858,8 @@ impl Interp {
             Word::Lit(v) => Ok(v.clone()),
             Word::Var(name) => self.get_var_name(name),
             Word::Cmd(s) => self.eval_nested(s),
+            Word::Local(i, name) => self.read_local(*i, name),
+            Word::Compiled(b) => self.run_nested(b),
             Word::Concat(parts) => {
                 let mut out = String::new();
                 for p in parts {
@@ -779,8 +870,12 @@ impl Interp {
                             v = self.get_var_name(name)?;
                             v.as_str()
                         }
-                        Part::Cmd(s) => {
-                            v = self.eval_nested(s)?;
+                        Part::Local(i, name) => {
+                            v = self.read_local(*i, name)?;
+                            v.as_str()
+                        }
+                        Part::Cmd(_) | Part::Compiled(_) => {
+                            v = self.eval_part_cmd(p)?;
                             v.as_str()
                         }
                     };
@@ -790,6 +885,15 @@ impl Interp {
                 Ok(Value::from_string(out))
             }
             Word::Expand(inner) => self.eval_word(inner),
+        }
+    }
+
+    /// A command substitution in a word of several parts.
+    fn eval_part_cmd(&mut self, p: &Part) -> TclResult {
+        match p {
+            Part::Cmd(s) => self.eval_nested(s),
+            Part::Compiled(b) => self.run_nested(b),
+            _ => unreachable!("a command part"),
         }
     }
 
@@ -844,6 +948,11 @@ impl Interp {
                 .with_error_code(&format!("TCL LOOKUP COMMAND {}", argv[0].as_str())));
             }
         };
+        self.invoke_cmd(cmd, argv)
+    }
+
+    /// Calls the command `argv[0]` resolved to.
+    pub(crate) fn invoke_cmd(&mut self, cmd: CommandKind, argv: &[Value]) -> TclResult {
         self.enter()?;
         let mark = crate::mem::mark();
         let level = !matches!(cmd, CommandKind::Native(_, true));
@@ -909,41 +1018,49 @@ impl Interp {
     fn call_proc(&mut self, p: &Proc, argv: &[Value]) -> TclResult {
         // The words before the arguments: the name, or `apply` and the term.
         let skip = if p.lambda.is_some() { 2 } else { 1 };
-        let mut vars = VarMap::default();
         let n_args = argv.len() - skip;
         let n_fixed = p.params.len() - p.variadic as usize;
-        for (i, (name, default)) in p.params.iter().enumerate().take(n_fixed) {
-            let v = if i < n_args {
+        let mut args: SmallVec<[Value; 8]> = SmallVec::with_capacity(p.params.len());
+        for (i, (_, default)) in p.params.iter().enumerate().take(n_fixed) {
+            args.push(if i < n_args {
                 argv[i + skip].clone()
             } else if let Some(d) = default {
                 d.clone()
             } else {
                 return Err(proc_usage(p, &argv[0]));
-            };
-            vars.insert(name.clone(), Rc::new(RefCell::new(Var::Scalar(v))));
+            });
         }
         if p.variadic {
             let rest = if n_args > n_fixed { argv[n_fixed + skip..].to_vec() } else { Vec::new() };
-            vars.insert(
-                Rc::from("args"),
-                Rc::new(RefCell::new(Var::Scalar(Value::from_list(rest)))),
-            );
+            args.push(Value::from_list(rest));
         } else if n_args > n_fixed {
             return Err(proc_usage(p, &argv[0]));
         }
+        let compiled = if p.lambda.is_none() { self.compiled_body(p) } else { None };
         let level = self.frames[self.cur].level + 1;
-        self.frames.push(Frame {
-            ns: p.ns.clone(),
-            vars,
-            level,
-            caller: self.cur,
-            objv: argv.to_vec(),
-            links: Vec::new(),
-        });
+        let mut frame = Frame::new(p.ns.clone(), level, self.cur, argv.to_vec());
+        let cell = |v| Some(Rc::new(RefCell::new(Var::Scalar(v))));
+        match &compiled {
+            Some(c) => {
+                // The parameters are the first slots.
+                frame.slots = args.into_iter().map(cell).collect();
+                frame.slots.resize(c.names.len(), None);
+                frame.names = Some(c.names.clone());
+            }
+            None => {
+                for ((name, _), v) in p.params.iter().zip(args) {
+                    frame.vars.insert(name.clone(), cell(v).expect("a cell"));
+                }
+            }
+        }
+        self.frames.push(frame);
         let saved = self.cur;
         self.cur = self.frames.len() - 1;
         let saved_ns = std::mem::replace(&mut self.ns, p.ns.clone());
-        let r = self.eval(&p.body);
+        let r = match &compiled {
+            Some(c) => self.run_compiled(c),
+            None => self.eval(&p.body),
+        };
         let dying =
             if self.var_traces.is_empty() { Vec::new() } else { self.traced_locals(self.cur) };
         self.ns = saved_ns;
@@ -972,9 +1089,44 @@ impl Interp {
         }
     }
 
+    /// A proc's compiled body, compiled now if it is not yet (or no
+    /// longer) current.
+    fn compiled_body(&mut self, p: &Proc) -> Option<Rc<CompiledProc>> {
+        if let Some(c) = &*p.compiled.borrow()
+            && c.is_current(self)
+        {
+            return Some(c.clone());
+        }
+        let c = Rc::new(compile::compile_proc(self, p)?);
+        *p.compiled.borrow_mut() = Some(c.clone());
+        Some(c)
+    }
+
+    /// Runs a compiled proc body as `eval` runs a script: a unit of its own.
+    fn run_compiled(&mut self, c: &CompiledProc) -> TclResult {
+        let direct = std::mem::replace(&mut self.direct, false);
+        let r = self.run_body(&c.body);
+        self.direct = direct;
+        match r {
+            Ok(Outcome::Normal(v) | Outcome::Return(v)) => Ok(v),
+            Ok(Outcome::Break) => Err(Exception::flow(Code::Break, Value::empty())),
+            Ok(Outcome::Continue) => Err(Exception::flow(Code::Continue, Value::empty())),
+            Err(e) => Err(end_unit(e, c.body.first_line())),
+        }
+    }
+
     /// Evaluates an expression held in a value (parsed form cached).
     pub fn eval_expr(&mut self, e: &Value) -> TclResult {
-        let op = self.eval_expr_operand(e)?;
+        let ast = self.expr_of(e)?;
+        self.eval_expr_ast(&ast)
+    }
+
+    /// Evaluates a parsed expression as `expr` does.
+    pub(crate) fn eval_expr_ast(&mut self, ast: &Expr) -> TclResult {
+        self.enter()?;
+        let op = expr::eval(self, ast);
+        self.depth -= 1;
+        let op = op?;
         let nan = match &op {
             Operand::Int(_) => false,
             Operand::Dbl(d) => d.is_nan(),
@@ -990,18 +1142,18 @@ impl Interp {
     }
 
     #[inline]
-    pub(crate) fn eval_expr_operand(&mut self, e: &Value) -> Result<Operand, Exception> {
+    pub fn eval_cond(&mut self, e: &Value) -> Result<bool, Exception> {
         let ast = self.expr_of(e)?;
-        self.enter()?;
-        let r = expr::eval(self, &ast);
-        self.depth -= 1;
-        r
+        self.eval_cond_ast(&ast)
     }
 
+    /// A parsed condition's truth (`if`, `while`, `for`).
     #[inline]
-    pub fn eval_cond(&mut self, e: &Value) -> Result<bool, Exception> {
-        let v = self.eval_expr_operand(e)?;
-        match v {
+    pub(crate) fn eval_cond_ast(&mut self, ast: &Expr) -> Result<bool, Exception> {
+        self.enter()?;
+        let v = expr::eval(self, ast);
+        self.depth -= 1;
+        match v? {
             Operand::Int(i) => Ok(i != 0),
             Operand::Dbl(d) => Ok(d != 0.0),
             Operand::Big(_) => Ok(true),
@@ -1009,7 +1161,7 @@ impl Interp {
         }
     }
 
-    fn expr_of(&mut self, v: &Value) -> Result<Rc<Expr>, Exception> {
+    pub(crate) fn expr_of(&mut self, v: &Value) -> Result<Rc<Expr>, Exception> {
         let (file, line) = match &*v.rep() {
             Rep::Expr(e) => return Ok(e.clone()),
             Rep::Origin(f, l) => (f.clone(), *l),
@@ -1052,8 +1204,7 @@ impl Interp {
     pub(crate) fn find_var(&self, name: &str) -> Option<VarCell> {
         let (frame, key, fallback) = self.var_place(name);
         self.frames[frame]
-            .vars
-            .get(&*key)
+            .get(&key)
             .or_else(|| fallback.and_then(|f| self.frames[0].vars.get(f)))
             .cloned()
     }
@@ -1064,7 +1215,7 @@ impl Interp {
         }
         let (frame, local) = self.frame_for(name);
         let cell = Rc::new(RefCell::new(Var::Undefined));
-        self.frames[frame].vars.insert(Rc::from(local), cell.clone());
+        self.frames[frame].insert(Rc::from(local), cell.clone());
         cell
     }
 
@@ -1327,7 +1478,7 @@ impl Interp {
         // linked variable, as in Tcl.
         if Rc::strong_count(&cell) <= 2 {
             let (frame, local) = self.frame_for(base);
-            self.frames[frame].vars.shift_remove(local.as_str());
+            self.frames[frame].remove(&local);
         }
         Ok(())
     }
@@ -1389,11 +1540,11 @@ impl Interp {
                 "bad variable name \"{local}\": can't create a scalar variable that looks like an array element"
             )));
         }
-        let cell = match self.frames[frame].vars.get(other) {
+        let cell = match self.frames[frame].get(other) {
             Some(c) => c.clone(),
             None => {
                 let c = Rc::new(RefCell::new(Var::Undefined));
-                self.frames[frame].vars.insert(Rc::from(other), c.clone());
+                self.frames[frame].insert(Rc::from(other), c.clone());
                 c
             }
         };
@@ -1411,7 +1562,7 @@ impl Interp {
         if frame == self.cur && elem.is_none() && other == local {
             return Err(Exception::error("can't upvar from variable to itself"));
         }
-        if let Some(existing) = self.frames[self.cur].vars.get(local) {
+        if let Some(existing) = self.frames[self.cur].get(local) {
             if Rc::ptr_eq(existing, &cell) {
                 return Ok(());
             }
@@ -1421,7 +1572,7 @@ impl Interp {
         }
         let local: Rc<str> = Rc::from(local);
         self.frames[self.cur].links.push(local.clone());
-        self.frames[self.cur].vars.insert(local, cell);
+        self.frames[self.cur].insert(local, cell);
         Ok(())
     }
 
@@ -1546,7 +1697,7 @@ fn stdout_error(e: &std::io::Error) -> Exception {
 /// or took the heap past the budget: an error, unless one is already on its
 /// way (with its trace) or the script is exiting.
 #[cold]
-fn after_growth(r: TclResult) -> TclResult {
+pub(crate) fn after_growth(r: TclResult) -> TclResult {
     let pending = value::take_pending();
     match r {
         Err(e) if matches!(e.code, Code::Error | Code::Exit(_)) => Err(e),
@@ -1633,6 +1784,18 @@ pub(crate) fn add_trace(
         e.trace.push('"');
     }
     e.logged = !direct;
+}
+
+/// An error leaving an evaluation unit whose text starts at `first_line`:
+/// its line within the unit (for `(procedure "f" line N)`), and the next
+/// unit out logs its own command again.
+fn end_unit(mut e: Exception, first_line: u32) -> Exception {
+    if e.abs_line > 0 {
+        e.script_line = (e.abs_line + 1).saturating_sub(first_line).max(1);
+    }
+    e.logged = false;
+    e.abs_line = 0;
+    e
 }
 
 fn proc_usage(p: &Proc, name: &Value) -> Exception {

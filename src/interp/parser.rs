@@ -40,12 +40,19 @@ pub enum Word {
     Concat(Vec<Part>),
     /// `{*}word`.
     Expand(Box<Word>),
+    /// In a compiled body (`compile.rs`): `$name` of a local, by slot.
+    Local(u32, Rc<str>),
+    /// In a compiled body: a compiled `[...]`.
+    Compiled(Rc<super::compile::Body>),
 }
 
 pub enum Part {
     Lit(String),
     Var(VarName),
     Cmd(Rc<Script>),
+    /// As `Word::Local` and `Word::Compiled`.
+    Local(u32, Rc<str>),
+    Compiled(Rc<super::compile::Body>),
 }
 
 pub enum VarName {
@@ -219,6 +226,7 @@ impl Parts {
                 Some(Part::Lit(s)) => return Word::Lit(Value::from_string(s)),
                 Some(Part::Var(v)) => return Word::Var(v),
                 Some(Part::Cmd(c)) => return Word::Cmd(c),
+                Some(p @ (Part::Local(..) | Part::Compiled(_))) => self.parts.push(p),
                 None => {}
             }
         }

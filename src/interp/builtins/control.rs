@@ -98,7 +98,7 @@ fn loop_body(r: TclResult) -> Result<Flow, Exception> {
 /// The shape of an `if` command, checked before any of it runs, as Tcl
 /// (which compiles it whole) does: `if 1 {} elwood {}` is an error even
 /// though its first branch would be taken.
-fn check_if(argv: &[Value]) -> Result<(), Exception> {
+pub(crate) fn check_if(argv: &[Value]) -> Result<(), Exception> {
     let mut i = 1;
     loop {
         if i >= argv.len() {
@@ -280,6 +280,7 @@ fn cmd_apply(interp: &mut Interp, argv: &[Value]) -> TclResult {
             Some(n) => Rc::from(n.as_str().trim_start_matches(':')),
             None => Rc::from(""),
         },
+        compiled: Default::default(),
     };
     interp.call_lambda(&p, argv)
 }
@@ -491,6 +492,7 @@ fn cmd_proc(interp: &mut Interp, argv: &[Value]) -> TclResult {
         arg_spec: argv[2].clone(),
         lambda: None,
         ns,
+        compiled: Default::default(),
     });
     Ok(Value::empty())
 }
@@ -1133,8 +1135,7 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
             }
             let links = &interp.frames[frame].links;
             let defined = interp.frames[frame]
-                .vars
-                .iter()
+                .entries()
                 .filter(|(_, c)| !matches!(*c.borrow(), Var::Undefined))
                 .map(|(k, _)| &**k);
             if frame != 0 {

@@ -84,9 +84,14 @@ fn cmd_lappend(interp: &mut Interp, argv: &[Value]) -> TclResult {
         interp.fire_read_traces_of(argv[1].as_str())?;
     }
     interp.update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| {
-        check_list_len(v.as_list()?.len() + argv.len())?;
-        v.list_append(&argv[2..])
+        append_elements(v, &argv[2..])
     })
+}
+
+/// `lappend`'s change to the variable's value.
+pub(crate) fn append_elements(v: &mut Value, extra: &[Value]) -> Result<(), Exception> {
+    check_list_len(v.as_list()?.len() + extra.len() + 2)?;
+    v.list_append(extra)
 }
 
 fn cmd_linsert(_: &mut Interp, argv: &[Value]) -> TclResult {

@@ -32,7 +32,9 @@ pub fn subcommands(command: &str) -> Option<&'static [&'static str]> {
 }
 
 pub(crate) use chan::Channels;
-pub(crate) use control::with_body_line;
+pub(crate) use control::{check_if, with_body_line};
+pub(crate) use lists::append_elements;
+pub(crate) use vars::append_strings;
 pub(crate) use coro::Coroutines;
 pub(crate) use misc::PARRAY;
 pub use package::{Packages, TCL_PATCHLEVEL, TCL_VERSION};

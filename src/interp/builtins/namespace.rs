@@ -349,6 +349,7 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 path.push(ns);
             }
             interp.cmd_epoch += 1;
+            interp.inline_epoch += 1;
             if path.is_empty() {
                 interp.ns_paths.remove(&here);
             } else {

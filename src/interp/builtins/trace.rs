@@ -252,8 +252,7 @@ impl Interp {
     /// A proc frame about to go: its own variables that have traces.
     pub(crate) fn traced_locals(&self, frame: usize) -> Vec<(Rc<str>, VarCell)> {
         self.frames[frame]
-            .vars
-            .iter()
+            .entries()
             .filter(|(_, c)| self.var_traces.contains_key(&key(c)) && Rc::strong_count(c) <= 2)
             .map(|(n, c)| (n.clone(), c.clone()))
             .collect()

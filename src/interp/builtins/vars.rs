@@ -67,23 +67,32 @@ fn cmd_append(interp: &mut Interp, argv: &[Value]) -> TclResult {
     if argv.len() == 2 {
         return interp.get_var(argv[1].as_str());
     }
-    interp.update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| {
-        let extra: usize = argv[2..].iter().map(|a| a.as_str().len()).sum();
-        check_len(v.as_str().len() + extra)?;
-        for a in &argv[2..] {
-            v.str_append(a.as_str());
-        }
-        Ok(())
-    })
+    interp.update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| append_strings(v, &argv[2..]))
+}
+
+/// `append`'s change to the variable's value.
+pub(crate) fn append_strings(v: &mut Value, extra: &[Value]) -> Result<(), Exception> {
+    let n: usize = extra.iter().map(|a| a.as_str().len()).sum();
+    check_len(v.as_str().len() + n)?;
+    for a in extra {
+        v.str_append(a.as_str());
+    }
+    Ok(())
 }
 
 fn cmd_incr(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, 3, "varName ?increment?")?;
     let by = if argv.len() == 3 { argv[2].as_integer()? } else { Num::Int(1) };
-    if !interp.var_traces.is_empty() {
-        interp.fire_read_traces_of(argv[1].as_str())?;
-    }
-    interp.update_var(argv[1].as_str(), Some(Value::from_int(0)), &mut |v| {
+    interp.incr_var(argv[1].as_str(), by)
+}
+
+impl Interp {
+    /// `incr name by`.
+    pub(crate) fn incr_var(&mut self, name: &str, by: Num) -> TclResult {
+        if !self.var_traces.is_empty() {
+            self.fire_read_traces_of(name)?;
+        }
+        self.update_var(name, Some(Value::from_int(0)), &mut |v| {
         // The 64-bit path first; bignums when it overflows.
         if let (Some(x), Num::Int(y)) = (v.cached_int(), &by)
             && let Some(sum) = x.checked_add(*y)
@@ -94,6 +103,7 @@ fn cmd_incr(interp: &mut Interp, argv: &[Value]) -> TclResult {
         *v = Value::from_num(number::int_add(&v.as_integer()?, &by));
         Ok(())
     })
+    }
 }
 
 fn cmd_global(interp: &mut Interp, argv: &[Value]) -> TclResult {

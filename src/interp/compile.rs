@@ -1,0 +1,633 @@
+//! Compiled proc bodies: a proc's body, and the literal bodies of the
+//! `if`, `while`, `for` and `foreach` in it, become a tree of `Op`s in which
+//! local variables are slot indices and the commands Tcl compiles inline
+//! (`set`, `incr`, `append`, `lappend`, `if`, `while`, `for`, `foreach`,
+//! `expr`, `return`, `break`, `continue`) run without an argument vector,
+//! a command lookup or a name hash. Every other command is a call site that
+//! caches the command its name resolves to, checked against `cmd_epoch`.
+//!
+//! The compiled form is an optimisation only, never a second semantics:
+//! each `Op` keeps the parsed command it came from, and runs that command
+//! the ordinary way (`Interp::eval_command`) whenever the fast path might
+//! differ: a command Tcl compiles was redefined since (`inline_epoch`, as
+//! Tcl's compile epoch), or a variable or command trace exists. Variables
+//! are reached by name as before from everywhere else (`upvar`, `uplevel`,
+//! `info vars`, traces): `Frame::get` looks a name up among the slots first.
+//!
+//! The shape follows Tcl's own bytecode compiler (tclCompCmds.c: which
+//! commands compile, the compiled-local table of a proc) and molt's plain
+//! tree-walking style; it is a tree, not bytecode, so that errors keep
+//! exactly the command text and line the interpreter reports.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use smallvec::SmallVec;
+
+use super::error::{Code, Exception, TclResult};
+use super::eval::{CommandKind, Interp, Proc, Var, add_trace};
+use super::expr::{self, Expr};
+use super::parser::{Part, Script, VarName, Word};
+use super::value::{Rep, Value};
+
+/// The commands compiled inline. Redefining any of them (in any
+/// namespace) bumps `Interp::inline_epoch` and so recompiles.
+pub(crate) const INLINE_OPS: &[&str] = &[
+    "set", "incr", "append", "lappend", "if", "while", "for", "foreach", "expr", "return", "break",
+    "continue",
+];
+
+/// Nesting of literal bodies compiled inline; deeper ones run as ordinary
+/// commands (so compiling never recurses without a bound).
+const MAX_NESTING: usize = 64;
+
+/// A proc's compiled body and its local-variable table.
+pub(crate) struct CompiledProc {
+    /// Slot names: the parameters first, then the locals in the order the
+    /// body first names them.
+    pub(crate) names: Rc<[Rc<str>]>,
+    pub(crate) body: Body,
+}
+
+impl Body {
+    pub(crate) fn first_line(&self) -> u32 {
+        self.script.first_line
+    }
+}
+
+impl CompiledProc {
+    /// Whether nothing it inlines has changed since it was compiled.
+    pub(crate) fn is_current(&self, interp: &Interp) -> bool {
+        self.body.epoch == interp.inline_epoch
+    }
+}
+
+/// A compiled script: its source (for errorInfo and the slow path) and
+/// one `Op` per command.
+pub(crate) struct Body {
+    script: Rc<Script>,
+    ops: Vec<Op>,
+    /// The `inline_epoch` it was compiled in.
+    epoch: u64,
+}
+
+/// How a compiled body ended, other than by an error.
+pub(crate) enum Outcome {
+    Normal(Value),
+    Return(Value),
+    Break,
+    Continue,
+}
+
+/// What a loop does after its body.
+enum Step {
+    Go,
+    Stop,
+    /// Leave the loop's command with this outcome (`return`).
+    Out(Outcome),
+}
+
+/// A local variable: its slot, and its name (for messages and the slow
+/// path).
+type Local = (u32, Rc<str>);
+
+enum Op {
+    /// Any command: the words, and the command the first one last
+    /// resolved to (with the `cmd_epoch` of that resolution).
+    Call { words: Vec<Word>, cache: RefCell<Option<(u64, CommandKind)>> },
+    Get(Local),
+    Set(Local, Word),
+    Incr(Local, Option<Word>),
+    Append(Local, Vec<Word>),
+    Lappend(Local, Vec<Word>),
+    If { arms: Vec<(Rc<Expr>, Body)>, otherwise: Option<Body> },
+    While(Rc<Expr>, Body),
+    For { start: Body, test: Rc<Expr>, next: Body, body: Body },
+    Foreach(Local, Word, Body),
+    Expr(Rc<Expr>),
+    Return(Option<Word>),
+    Break,
+    Continue,
+}
+
+struct Compiler<'a> {
+    interp: &'a Interp,
+    names: Vec<Rc<str>>,
+    depth: usize,
+}
+
+/// Whether a variable name can be a slot: a plain local name.
+fn is_local_name(name: &str) -> bool {
+    !name.is_empty() && !name.contains("::") && !name.contains('(') && name != "tcl_precision"
+}
+
+impl Compiler<'_> {
+    fn slot(&mut self, name: &str) -> Local {
+        match self.names.iter().position(|n| &**n == name) {
+            Some(i) => (i as u32, self.names[i].clone()),
+            None => {
+                self.names.push(Rc::from(name));
+                ((self.names.len() - 1) as u32, self.names[self.names.len() - 1].clone())
+            }
+        }
+    }
+
+    /// The slot of a literal variable-name word, if it names a local.
+    fn local_word(&mut self, w: &Word) -> Option<Local> {
+        match w {
+            Word::Lit(v) if is_local_name(v.as_str()) => Some(self.slot(v.as_str())),
+            _ => None,
+        }
+    }
+
+    fn body(&mut self, script: Rc<Script>) -> Body {
+        self.depth += 1;
+        let ops = script.cmds.iter().map(|c| self.command(&c.words)).collect();
+        self.depth -= 1;
+        Body { script, ops, epoch: self.interp.inline_epoch }
+    }
+
+    /// A literal word's script, compiled, when nesting allows.
+    fn nested(&mut self, w: &Word) -> Option<Body> {
+        match w {
+            Word::Lit(v) if self.depth < MAX_NESTING => Some(self.body(Interp::script_of(v))),
+            _ => None,
+        }
+    }
+
+    fn expr(&mut self, w: &Word) -> Option<Rc<Expr>> {
+        let Word::Lit(v) = w else { return None };
+        let (file, line) = match &*v.rep() {
+            Rep::Origin(f, l) => (f.clone(), *l),
+            _ => (None, 1),
+        };
+        let e = expr::parse(v.as_str(), file, line).ok()?;
+        Some(Rc::new(self.expr_tree(&e)))
+    }
+
+    fn expr_tree(&mut self, e: &Expr) -> Expr {
+        let b = |c: &mut Self, x: &Expr| Box::new(c.expr_tree(x));
+        match e {
+            Expr::Lit(o) => Expr::Lit(o.clone()),
+            Expr::Word(w) => Expr::Word(self.word(w)),
+            Expr::Unary(op, x) => Expr::Unary(*op, b(self, x)),
+            Expr::Binary(op, x, y) => Expr::Binary(*op, b(self, x), b(self, y)),
+            Expr::And(x, y) => Expr::And(b(self, x), b(self, y)),
+            Expr::Or(x, y) => Expr::Or(b(self, x), b(self, y)),
+            Expr::Ternary(c, x, y) => Expr::Ternary(b(self, c), b(self, x), b(self, y)),
+            Expr::Call(f, args) => Expr::Call(*f, args.iter().map(|a| self.expr_tree(a)).collect()),
+            Expr::Custom(n, args) => {
+                Expr::Custom(n.clone(), args.iter().map(|a| self.expr_tree(a)).collect())
+            }
+        }
+    }
+
+    /// A word with its local variables as slots and its command
+    /// substitutions compiled.
+    fn word(&mut self, w: &Word) -> Word {
+        match w {
+            Word::Lit(v) => Word::Lit(v.clone()),
+            Word::Var(name) => match self.var_name(name) {
+                Ok(local) => local,
+                Err(name) => Word::Var(name),
+            },
+            Word::Cmd(s) if self.depth < MAX_NESTING => {
+                Word::Compiled(Rc::new(self.body(s.clone())))
+            }
+            Word::Cmd(s) => Word::Cmd(s.clone()),
+            Word::Concat(parts) => Word::Concat(parts.iter().map(|p| self.part(p)).collect()),
+            Word::Expand(inner) => Word::Expand(Box::new(self.word(inner))),
+            Word::Local(i, n) => Word::Local(*i, n.clone()),
+            Word::Compiled(b) => Word::Compiled(b.clone()),
+        }
+    }
+
+    /// `$name` as a slot read (`Ok`), or the name kept (`Err`).
+    fn var_name(&mut self, name: &VarName) -> Result<Word, VarName> {
+        match name {
+            VarName::Scalar(n) if is_local_name(n) => Ok(Word::Local(self.slot(n).0, n.clone())),
+            VarName::Scalar(n) => Err(VarName::Scalar(n.clone())),
+            VarName::Elem(n, idx) => Err(VarName::Elem(n.clone(), Box::new(self.word(idx)))),
+        }
+    }
+
+    fn part(&mut self, p: &Part) -> Part {
+        match p {
+            Part::Lit(s) => Part::Lit(s.clone()),
+            Part::Var(name) => match self.var_name(name) {
+                Ok(Word::Local(i, n)) => Part::Local(i, n),
+                Ok(_) => unreachable!("var_name makes locals only"),
+                Err(name) => Part::Var(name),
+            },
+            Part::Cmd(s) if self.depth < MAX_NESTING => {
+                Part::Compiled(Rc::new(self.body(s.clone())))
+            }
+            Part::Cmd(s) => Part::Cmd(s.clone()),
+            Part::Local(i, n) => Part::Local(*i, n.clone()),
+            Part::Compiled(b) => Part::Compiled(b.clone()),
+        }
+    }
+
+    fn call(&mut self, words: &[Word]) -> Op {
+        Op::Call { words: words.iter().map(|w| self.word(w)).collect(), cache: RefCell::new(None) }
+    }
+
+    /// Whether `name` here means the builtin of that name.
+    fn is_builtin(&self, name: &str) -> bool {
+        self.interp.is_original_builtin(name)
+    }
+
+    fn command(&mut self, words: &[Word]) -> Op {
+        let Some(Word::Lit(first)) = words.first() else { return self.call(words) };
+        let name = first.as_str();
+        if !INLINE_OPS.contains(&name)
+            || words.iter().any(|w| matches!(w, Word::Expand(_)))
+            || !self.is_builtin(name)
+        {
+            return self.call(words);
+        }
+        self.inline(name, words).unwrap_or_else(|| self.call(words))
+    }
+
+    /// A command compiled inline, when its words have the shape that
+    /// allows it (the others, errors included, run as ordinary calls).
+    fn inline(&mut self, name: &str, w: &[Word]) -> Option<Op> {
+        Some(match (name, w.len()) {
+            ("set", 2) => Op::Get(self.local_word(&w[1])?),
+            ("set", 3) => {
+                let slot = self.local_word(&w[1])?;
+                Op::Set(slot, self.word(&w[2]))
+            }
+            ("incr", 2 | 3) => {
+                let slot = self.local_word(&w[1])?;
+                Op::Incr(slot, w.get(2).map(|x| self.word(x)))
+            }
+            ("append", 3..) => {
+                let slot = self.local_word(&w[1])?;
+                Op::Append(slot, w[2..].iter().map(|x| self.word(x)).collect())
+            }
+            ("lappend", 3..) => {
+                let slot = self.local_word(&w[1])?;
+                Op::Lappend(slot, w[2..].iter().map(|x| self.word(x)).collect())
+            }
+            ("expr", 2) => Op::Expr(self.expr(&w[1])?),
+            ("while", 3) => {
+                let test = self.expr(&w[1])?;
+                Op::While(test, self.nested(&w[2])?)
+            }
+            ("for", 5) => {
+                let start = self.nested(&w[1])?;
+                let test = self.expr(&w[2])?;
+                let next = self.nested(&w[3])?;
+                Op::For { start, test, next, body: self.nested(&w[4])? }
+            }
+            ("foreach", 4) => {
+                let Word::Lit(var) = &w[1] else { return None };
+                // One plain name (a list of one element that is itself).
+                let items = var.as_list().ok()?;
+                if items.len() != 1 || items[0].as_str() != var.as_str() {
+                    return None;
+                }
+                let slot = self.local_word(&w[1])?;
+                let list = self.word(&w[2]);
+                Op::Foreach(slot, list, self.nested(&w[3])?)
+            }
+            ("if", _) => self.if_op(w)?,
+            ("return", 1) => Op::Return(None),
+            ("return", 2) => Op::Return(Some(self.word(&w[1]))),
+            ("break", 1) => Op::Break,
+            ("continue", 1) => Op::Continue,
+            _ => return None,
+        })
+    }
+
+    /// `if` with every word literal and a well-formed shape.
+    fn if_op(&mut self, w: &[Word]) -> Option<Op> {
+        let mut lits = Vec::with_capacity(w.len());
+        for x in w {
+            match x {
+                Word::Lit(v) => lits.push(v.clone()),
+                _ => return None,
+            }
+        }
+        super::builtins::check_if(&lits).ok()?;
+        let mut arms = Vec::new();
+        let mut i = 1;
+        loop {
+            let test = self.expr(&w[i])?;
+            i += 1;
+            if lits[i].as_str() == "then" {
+                i += 1;
+            }
+            arms.push((test, self.nested(&w[i])?));
+            i += 1;
+            match lits.get(i).map(Value::as_str) {
+                None => return Some(Op::If { arms, otherwise: None }),
+                Some("elseif") => i += 1,
+                Some("else") => return Some(Op::If { arms, otherwise: Some(self.nested(&w[i + 1])?) }),
+                Some(_) => return Some(Op::If { arms, otherwise: Some(self.nested(&w[i])?) }),
+            }
+        }
+    }
+}
+
+/// Compiles a proc's body (`None` when its parameters cannot be slots).
+pub(crate) fn compile_proc(interp: &Interp, p: &Proc) -> Option<CompiledProc> {
+    let mut c = Compiler { interp, names: Vec::new(), depth: 0 };
+    for (name, _) in &p.params {
+        if !is_local_name(name) || c.names.iter().any(|n| n == name) {
+            return None;
+        }
+        c.names.push(name.clone());
+    }
+    let body = c.body(Interp::script_of(&p.body));
+    Some(CompiledProc { names: c.names.into(), body })
+}
+
+impl Interp {
+    /// Whether a compiled body may take its fast paths now: nothing the
+    /// compiler relied on has been redefined, and no trace wants to see
+    /// each variable access or command.
+    #[inline]
+    fn fast(&self, epoch: u64) -> bool {
+        self.inline_epoch == epoch && self.var_traces.is_empty() && self.cmd_traces.is_empty()
+    }
+
+    /// Runs a compiled body inline (errors logged as in `eval_script`).
+    pub(crate) fn run_body(&mut self, b: &Body) -> Result<Outcome, Exception> {
+        let mut result = Value::empty();
+        for (op, cmd) in b.ops.iter().zip(&b.script.cmds) {
+            drop(std::mem::take(&mut result));
+            let r = if self.fast(b.epoch) {
+                self.run_op(op)
+            } else {
+                self.eval_command(cmd).map(Outcome::Normal)
+            };
+            match r {
+                Ok(Outcome::Normal(v)) => result = v,
+                Ok(other) => return Ok(other),
+                Err(mut e) => {
+                    let s = &b.script;
+                    add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
+                    return Err(e);
+                }
+            }
+        }
+        if let Some(pe) = &b.script.error {
+            let s = &b.script;
+            let text = &s.src[pe.cmd_start as usize..(pe.pos as usize).min(s.src.len())];
+            let mut e = Exception::error(pe.msg.clone());
+            add_trace(&mut e, text, pe.line, s.first_line, &s.file, false);
+            return Err(e);
+        }
+        Ok(Outcome::Normal(result))
+    }
+
+    /// A compiled `[...]`: its `return`, `break` or `continue` leave as
+    /// the exceptions the uncompiled script would raise.
+    pub(crate) fn run_nested(&mut self, b: &Body) -> TclResult {
+        self.enter()?;
+        let r = self.run_body(b);
+        self.leave();
+        match r? {
+            Outcome::Normal(v) => Ok(v),
+            Outcome::Return(v) => Err(Exception::flow(Code::Return, v)),
+            Outcome::Break => Err(Exception::flow(Code::Break, Value::empty())),
+            Outcome::Continue => Err(Exception::flow(Code::Continue, Value::empty())),
+        }
+    }
+
+    fn run_op(&mut self, op: &Op) -> Result<Outcome, Exception> {
+        if let Op::Call { words, cache } = op {
+            return self.run_call(words, cache).map(Outcome::Normal);
+        }
+        self.enter()?;
+        let mark = crate::mem::mark();
+        let r = self.run_inline(op);
+        self.leave();
+        // The memory budget and unmakeable strings, as `invoke` checks them.
+        if (crate::mem::grew_past(mark) || super::value::has_pending())
+            && !matches!(&r, Err(e) if matches!(e.code, Code::Error | Code::Exit(_)))
+        {
+            super::eval::after_growth(Ok(Value::empty()))?;
+        }
+        r
+    }
+
+    fn run_inline(&mut self, op: &Op) -> Result<Outcome, Exception> {
+        let normal = Outcome::Normal;
+        Ok(match op {
+            Op::Call { .. } => unreachable!("run_op runs calls"),
+            Op::Get((i, name)) => normal(self.read_local(*i, name)?),
+            Op::Set((i, name), w) => {
+                let v = self.eval_word(w)?;
+                normal(self.set_local(*i, name, v)?)
+            }
+            Op::Incr((i, name), by) => {
+                let by = match by {
+                    Some(w) => self.eval_word(w)?.as_integer()?,
+                    None => super::number::Num::Int(1),
+                };
+                normal(self.incr_local(*i, name, by)?)
+            }
+            Op::Append((i, name), words) => {
+                let vals = self.eval_words(words)?;
+                normal(self.update_local(*i, name, &mut |v| {
+                    super::builtins::append_strings(v, &vals)
+                })?)
+            }
+            Op::Lappend((i, name), words) => {
+                let vals = self.eval_words(words)?;
+                normal(self.update_local(*i, name, &mut |v| {
+                    super::builtins::append_elements(v, &vals)
+                })?)
+            }
+            Op::Expr(e) => normal(self.eval_expr_ast(e)?),
+            Op::If { arms, otherwise } => {
+                for (test, body) in arms {
+                    if self.eval_cond_ast(test)? {
+                        return self.run_body(body);
+                    }
+                }
+                match otherwise {
+                    Some(body) => return self.run_body(body),
+                    None => normal(Value::empty()),
+                }
+            }
+            Op::While(test, body) => {
+                while self.eval_cond_ast(test)? {
+                    match self.run_loop_body(body)? {
+                        Step::Go => {}
+                        Step::Stop => break,
+                        Step::Out(out) => return Ok(out),
+                    }
+                }
+                normal(Value::empty())
+            }
+            Op::For { start, test, next, body } => {
+                match self.run_body(start)? {
+                    Outcome::Normal(_) => {}
+                    // What `for` does with the code of its start script.
+                    out => return Ok(out),
+                }
+                while self.eval_cond_ast(test)? {
+                    match self.run_loop_body(body)? {
+                        Step::Go => {}
+                        Step::Stop => break,
+                        Step::Out(out) => return Ok(out),
+                    }
+                    // `break` in the next clause ends the loop, as in Tcl.
+                    match self.run_body(next)? {
+                        Outcome::Normal(_) => {}
+                        Outcome::Break => break,
+                        out => return Ok(out),
+                    }
+                }
+                normal(Value::empty())
+            }
+            Op::Foreach((i, name), list, body) => {
+                let items = self.eval_word(list)?.as_list()?;
+                for item in items.iter() {
+                    self.set_local(*i, name, item.clone())?;
+                    match self.run_loop_body(body)? {
+                        Step::Go => {}
+                        Step::Stop => break,
+                        Step::Out(out) => return Ok(out),
+                    }
+                }
+                normal(Value::empty())
+            }
+            Op::Return(w) => Outcome::Return(match w {
+                Some(w) => self.eval_word(w)?,
+                None => Value::empty(),
+            }),
+            Op::Break => Outcome::Break,
+            Op::Continue => Outcome::Continue,
+        })
+    }
+
+    /// A loop's body, and what the loop does next.
+    #[inline]
+    fn run_loop_body(&mut self, body: &Body) -> Result<Step, Exception> {
+        Ok(match self.run_body(body) {
+            Ok(Outcome::Normal(_) | Outcome::Continue) => Step::Go,
+            Ok(Outcome::Break) => Step::Stop,
+            Ok(out @ Outcome::Return(_)) => Step::Out(out),
+            Err(e) if e.code == Code::Break => Step::Stop,
+            Err(e) if e.code == Code::Continue => Step::Go,
+            Err(e) => return Err(e),
+        })
+    }
+
+    fn eval_words(&mut self, words: &[Word]) -> Result<SmallVec<[Value; 4]>, Exception> {
+        words.iter().map(|w| self.eval_word(w)).collect()
+    }
+
+    /// A call site: the words substituted, the command from the cache
+    /// while no command has changed since it was resolved.
+    fn run_call(&mut self, words: &[Word], cache: &RefCell<Option<(u64, CommandKind)>>) -> TclResult {
+        let mut argv: SmallVec<[Value; 8]> = SmallVec::new();
+        let mut expanded = false;
+        for w in words {
+            match w {
+                Word::Expand(inner) => {
+                    expanded = true;
+                    let v = self.eval_word(inner)?;
+                    argv.extend(v.as_list()?.iter().cloned());
+                }
+                _ => argv.push(self.eval_word(w)?),
+            }
+        }
+        if argv.is_empty() {
+            return Ok(Value::empty());
+        }
+        if expanded || !matches!(words[0], Word::Lit(_)) {
+            return self.invoke(&argv);
+        }
+        let cached = match &*cache.borrow() {
+            Some((epoch, cmd)) if *epoch == self.cmd_epoch => Some(cmd.clone()),
+            _ => None,
+        };
+        let cmd = match cached {
+            Some(cmd) => cmd,
+            None => match self.resolve_command(argv[0].as_str()) {
+                Some(cmd) => {
+                    let cmd = cmd.clone();
+                    *cache.borrow_mut() = Some((self.cmd_epoch, cmd.clone()));
+                    cmd
+                }
+                None => return self.invoke(&argv),
+            },
+        };
+        self.invoke_cmd(cmd, &argv)
+    }
+
+    /// Reads local slot `i` (by name when it is not a plain scalar, for
+    /// the exact error or an element link).
+    #[inline]
+    pub(crate) fn read_local(&mut self, i: u32, name: &str) -> TclResult {
+        if self.var_traces.is_empty()
+            && let Some(Some(cell)) = self.frames[self.cur].slots.get(i as usize)
+            && let Var::Scalar(v) = &*cell.borrow()
+        {
+            return Ok(v.clone());
+        }
+        self.get_var(name)
+    }
+
+    /// Sets local slot `i` (by name for anything but a plain scalar).
+    #[inline]
+    fn set_local(&mut self, i: u32, name: &str, v: Value) -> TclResult {
+        if self.var_traces.is_empty() {
+            match self.frames[self.cur].slots.get_mut(i as usize) {
+                Some(slot @ None) => {
+                    *slot = Some(Rc::new(RefCell::new(Var::Scalar(v.clone()))));
+                    return Ok(v);
+                }
+                Some(Some(cell)) => {
+                    let mut var = cell.borrow_mut();
+                    if matches!(*var, Var::Scalar(_) | Var::Undefined) {
+                        *var = Var::Scalar(v.clone());
+                        return Ok(v);
+                    }
+                }
+                None => {}
+            }
+        }
+        self.set_var(name, v)
+    }
+
+    fn incr_local(&mut self, i: u32, name: &str, by: super::number::Num) -> TclResult {
+        if let super::number::Num::Int(by) = by
+            && self.var_traces.is_empty()
+            && let Some(Some(cell)) = self.frames[self.cur].slots.get(i as usize)
+            && let Var::Scalar(v) = &mut *cell.borrow_mut()
+            && let Some(x) = v.cached_int()
+            && let Some(sum) = x.checked_add(by)
+        {
+            if !v.set_int_in_place(sum) {
+                *v = Value::from_int(sum);
+            }
+            return Ok(v.clone());
+        }
+        self.incr_var(name, by)
+    }
+
+    /// `append`/`lappend` on local slot `i`: `f` changes its value in
+    /// place (by name when it is not a plain scalar or does not exist).
+    fn update_local(
+        &mut self,
+        i: u32,
+        name: &str,
+        f: &mut dyn FnMut(&mut Value) -> Result<(), Exception>,
+    ) -> TclResult {
+        if self.var_traces.is_empty()
+            && let Some(Some(cell)) = self.frames[self.cur].slots.get(i as usize)
+            && let Var::Scalar(v) = &mut *cell.borrow_mut()
+        {
+            f(v)?;
+            return Ok(v.clone());
+        }
+        self.update_var(name, Some(Value::empty()), f)
+    }
+}
