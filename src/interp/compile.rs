@@ -25,8 +25,9 @@ use std::rc::Rc;
 use smallvec::SmallVec;
 
 use super::error::{Code, Exception, TclResult};
-use super::eval::{CommandKind, Interp, Proc, Var, add_trace};
-use super::expr::{self, Expr};
+use super::eval::{CommandKind, Interp, Proc, Var, add_trace, cond_truth, expr_result};
+use super::expr::{self, BinOp, Expr, Func, Operand, UnOp};
+use super::number::Num;
 use super::parser::{Part, Script, VarName, Word};
 use super::value::{Rep, Value};
 
@@ -97,18 +98,45 @@ enum Op {
     Call { words: Vec<Word>, cache: RefCell<Option<(u64, CommandKind)>> },
     Get(Local),
     Set(Local, Word),
-    Incr(Local, Option<Word>),
+    Incr(Local, By),
     Append(Local, Vec<Word>),
     Lappend(Local, Vec<Word>),
-    If { arms: Vec<(Rc<Expr>, Body)>, otherwise: Option<Body> },
-    While(Rc<Expr>, Body),
-    For { start: Body, test: Rc<Expr>, next: Body, body: Body },
+    If { arms: Vec<(CExpr, Body)>, otherwise: Option<Body> },
+    While(CExpr, Body),
+    For { start: Body, test: CExpr, next: Body, body: Body },
     Foreach(Local, Word, Body),
-    Expr(Rc<Expr>),
+    Expr(CExpr),
     Return(Option<Word>),
     Break,
     Continue,
 }
+
+/// `incr`'s amount.
+enum By {
+    One,
+    /// A literal integer, read once at compile time.
+    Const(i64),
+    Word(Word),
+}
+
+/// A compiled expression: `expr`'s tree with locals read by slot, as
+/// plain numbers when they hold one.
+enum CExpr {
+    Lit(Operand),
+    Local(u32, Rc<str>),
+    Word(Word),
+    Unary(UnOp, Box<CExpr>),
+    Binary(BinOp, Box<CExpr>, Box<CExpr>),
+    And(Box<CExpr>, Box<CExpr>),
+    Or(Box<CExpr>, Box<CExpr>),
+    Ternary(Box<CExpr>, Box<CExpr>, Box<CExpr>),
+    Call(Func, Vec<CExpr>),
+    Custom(Rc<str>, Vec<CExpr>),
+}
+
+/// Errors are boxed inside compiled code, so the common outcomes travel
+/// in registers.
+type Run<T> = Result<T, Box<Exception>>;
 
 struct Compiler<'a> {
     interp: &'a Interp,
@@ -155,29 +183,34 @@ impl Compiler<'_> {
         }
     }
 
-    fn expr(&mut self, w: &Word) -> Option<Rc<Expr>> {
+    fn expr(&mut self, w: &Word) -> Option<CExpr> {
         let Word::Lit(v) = w else { return None };
         let (file, line) = match &*v.rep() {
             Rep::Origin(f, l) => (f.clone(), *l),
             _ => (None, 1),
         };
         let e = expr::parse(v.as_str(), file, line).ok()?;
-        Some(Rc::new(self.expr_tree(&e)))
+        Some(self.expr_tree(&e))
     }
 
-    fn expr_tree(&mut self, e: &Expr) -> Expr {
+    fn expr_tree(&mut self, e: &Expr) -> CExpr {
         let b = |c: &mut Self, x: &Expr| Box::new(c.expr_tree(x));
         match e {
-            Expr::Lit(o) => Expr::Lit(o.clone()),
-            Expr::Word(w) => Expr::Word(self.word(w)),
-            Expr::Unary(op, x) => Expr::Unary(*op, b(self, x)),
-            Expr::Binary(op, x, y) => Expr::Binary(*op, b(self, x), b(self, y)),
-            Expr::And(x, y) => Expr::And(b(self, x), b(self, y)),
-            Expr::Or(x, y) => Expr::Or(b(self, x), b(self, y)),
-            Expr::Ternary(c, x, y) => Expr::Ternary(b(self, c), b(self, x), b(self, y)),
-            Expr::Call(f, args) => Expr::Call(*f, args.iter().map(|a| self.expr_tree(a)).collect()),
+            Expr::Lit(o) => CExpr::Lit(o.clone()),
+            Expr::Word(w) => match self.word(w) {
+                Word::Local(i, n) => CExpr::Local(i, n),
+                w => CExpr::Word(w),
+            },
+            Expr::Unary(op, x) => CExpr::Unary(*op, b(self, x)),
+            Expr::Binary(op, x, y) => CExpr::Binary(*op, b(self, x), b(self, y)),
+            Expr::And(x, y) => CExpr::And(b(self, x), b(self, y)),
+            Expr::Or(x, y) => CExpr::Or(b(self, x), b(self, y)),
+            Expr::Ternary(c, x, y) => CExpr::Ternary(b(self, c), b(self, x), b(self, y)),
+            Expr::Call(f, args) => {
+                CExpr::Call(*f, args.iter().map(|a| self.expr_tree(a)).collect())
+            }
             Expr::Custom(n, args) => {
-                Expr::Custom(n.clone(), args.iter().map(|a| self.expr_tree(a)).collect())
+                CExpr::Custom(n.clone(), args.iter().map(|a| self.expr_tree(a)).collect())
             }
         }
     }
@@ -260,7 +293,15 @@ impl Compiler<'_> {
             }
             ("incr", 2 | 3) => {
                 let slot = self.local_word(&w[1])?;
-                Op::Incr(slot, w.get(2).map(|x| self.word(x)))
+                let by = match w.get(2) {
+                    None => By::One,
+                    Some(Word::Lit(v)) => match v.as_integer() {
+                        Ok(Num::Int(k)) => By::Const(k),
+                        _ => By::Word(Word::Lit(v.clone())),
+                    },
+                    Some(x) => By::Word(self.word(x)),
+                };
+                Op::Incr(slot, by)
             }
             ("append", 3..) => {
                 let slot = self.local_word(&w[1])?;
@@ -344,6 +385,26 @@ pub(crate) fn compile_proc(interp: &Interp, p: &Proc) -> Option<CompiledProc> {
     Some(CompiledProc { names: c.names.into(), body })
 }
 
+/// A value as an operand: a plain number when it is one with no string
+/// yet (so its string would be the canonical one), otherwise the value.
+#[inline]
+fn operand_ref(v: &Value) -> Operand {
+    match v.pure_number() {
+        Some(Num::Int(i)) => Operand::Int(i),
+        Some(Num::Double(d)) => Operand::Dbl(d),
+        _ => Operand::Str(v.clone()),
+    }
+}
+
+#[inline]
+fn operand_of(v: Value) -> Operand {
+    match v.pure_number() {
+        Some(Num::Int(i)) => Operand::Int(i),
+        Some(Num::Double(d)) => Operand::Dbl(d),
+        _ => Operand::Str(v),
+    }
+}
+
 impl Interp {
     /// Whether a compiled body may take its fast paths now: nothing the
     /// compiler relied on has been redefined, and no trace wants to see
@@ -354,17 +415,18 @@ impl Interp {
     }
 
     /// Runs a compiled body inline (errors logged as in `eval_script`).
-    pub(crate) fn run_body(&mut self, b: &Body) -> Result<Outcome, Exception> {
-        let mut result = Value::empty();
+    pub(crate) fn run_body(&mut self, b: &Body) -> Run<Outcome> {
+        let mut result = None;
         for (op, cmd) in b.ops.iter().zip(&b.script.cmds) {
-            drop(std::mem::take(&mut result));
+            // Drop the previous result first so `lappend` can grow in place.
+            drop(result.take());
             let r = if self.fast(b.epoch) {
                 self.run_op(op)
             } else {
-                self.eval_command(cmd).map(Outcome::Normal)
+                self.eval_command(cmd).map(Outcome::Normal).map_err(Box::new)
             };
             match r {
-                Ok(Outcome::Normal(v)) => result = v,
+                Ok(Outcome::Normal(v)) => result = Some(v),
                 Ok(other) => return Ok(other),
                 Err(mut e) => {
                     let s = &b.script;
@@ -378,9 +440,9 @@ impl Interp {
             let text = &s.src[pe.cmd_start as usize..(pe.pos as usize).min(s.src.len())];
             let mut e = Exception::error(pe.msg.clone());
             add_trace(&mut e, text, pe.line, s.first_line, &s.file, false);
-            return Err(e);
+            return Err(Box::new(e));
         }
-        Ok(Outcome::Normal(result))
+        Ok(Outcome::Normal(result.unwrap_or_else(Value::empty)))
     }
 
     /// A compiled `[...]`: its `return`, `break` or `continue` leave as
@@ -389,47 +451,56 @@ impl Interp {
         self.enter()?;
         let r = self.run_body(b);
         self.leave();
-        match r? {
+        match r.map_err(|e| *e)? {
             Outcome::Normal(v) => Ok(v),
-            Outcome::Return(v) => Err(Exception::flow(Code::Return, v)),
+            Outcome::Return(v) => {
+                // What `return v` raises (`cmd_return`): one level up.
+                let mut e = Exception::flow(Code::Return, v);
+                e.level = 1;
+                Err(e)
+            }
             Outcome::Break => Err(Exception::flow(Code::Break, Value::empty())),
             Outcome::Continue => Err(Exception::flow(Code::Continue, Value::empty())),
         }
     }
 
-    fn run_op(&mut self, op: &Op) -> Result<Outcome, Exception> {
-        if let Op::Call { words, cache } = op {
-            return self.run_call(words, cache).map(Outcome::Normal);
-        }
-        self.enter()?;
-        let mark = crate::mem::mark();
-        let r = self.run_inline(op);
-        self.leave();
-        // The memory budget and unmakeable strings, as `invoke` checks them.
-        if (crate::mem::grew_past(mark) || super::value::has_pending())
-            && !matches!(&r, Err(e) if matches!(e.code, Code::Error | Code::Exit(_)))
-        {
-            super::eval::after_growth(Ok(Value::empty()))?;
-        }
-        r
-    }
-
-    fn run_inline(&mut self, op: &Op) -> Result<Outcome, Exception> {
-        let normal = Outcome::Normal;
-        Ok(match op {
-            Op::Call { .. } => unreachable!("run_op runs calls"),
-            Op::Get((i, name)) => normal(self.read_local(*i, name)?),
-            Op::Set((i, name), w) => {
-                let v = self.eval_word(w)?;
-                normal(self.set_local(*i, name, v)?)
-            }
+    /// One command. Inline ops are not a nesting level and do not
+    /// recurse beyond the compiled nesting (`MAX_NESTING`), so they skip
+    /// `enter`; loops `poll` for Ctrl-C and the command budget each turn.
+    #[inline(always)]
+    fn run_op(&mut self, op: &Op) -> Run<Outcome> {
+        match op {
+            Op::Call { words, cache } => Ok(Outcome::Normal(self.run_call(words, cache)?)),
             Op::Incr((i, name), by) => {
                 let by = match by {
-                    Some(w) => self.eval_word(w)?.as_integer()?,
-                    None => super::number::Num::Int(1),
+                    By::One => Num::Int(1),
+                    By::Const(k) => Num::Int(*k),
+                    By::Word(w) => self.eval_word(w)?.as_integer()?,
                 };
-                normal(self.incr_local(*i, name, by)?)
+                Ok(Outcome::Normal(self.incr_local(*i, name, by)?))
             }
+            Op::Set((i, name), w) => {
+                let v = self.eval_word(w)?;
+                Ok(Outcome::Normal(self.set_local(*i, name, v)?))
+            }
+            Op::Append(..) | Op::Lappend(..) => {
+                let mark = crate::mem::mark();
+                let r = self.run_inline(op);
+                // The memory budget, as `invoke` checks it.
+                if crate::mem::grew_past(mark) || super::value::has_pending() {
+                    super::eval::after_growth(Ok(Value::empty()))?;
+                }
+                r
+            }
+            _ => self.run_inline(op),
+        }
+    }
+
+    fn run_inline(&mut self, op: &Op) -> Run<Outcome> {
+        let normal = Outcome::Normal;
+        Ok(match op {
+            Op::Call { .. } | Op::Set(..) | Op::Incr(..) => unreachable!("run_op runs these"),
+            Op::Get((i, name)) => normal(self.read_local(*i, name)?),
             Op::Append((i, name), words) => {
                 let vals = self.eval_words(words)?;
                 normal(self.update_local(*i, name, &mut |v| {
@@ -442,10 +513,10 @@ impl Interp {
                     super::builtins::append_elements(v, &vals)
                 })?)
             }
-            Op::Expr(e) => normal(self.eval_expr_ast(e)?),
+            Op::Expr(e) => normal(expr_result(self.ceval(e)?)?),
             Op::If { arms, otherwise } => {
                 for (test, body) in arms {
-                    if self.eval_cond_ast(test)? {
+                    if cond_truth(self.ceval(test)?)? {
                         return self.run_body(body);
                     }
                 }
@@ -455,7 +526,8 @@ impl Interp {
                 }
             }
             Op::While(test, body) => {
-                while self.eval_cond_ast(test)? {
+                while cond_truth(self.ceval(test)?)? {
+                    self.poll()?;
                     match self.run_loop_body(body)? {
                         Step::Go => {}
                         Step::Stop => break,
@@ -470,7 +542,8 @@ impl Interp {
                     // What `for` does with the code of its start script.
                     out => return Ok(out),
                 }
-                while self.eval_cond_ast(test)? {
+                while cond_truth(self.ceval(test)?)? {
+                    self.poll()?;
                     match self.run_loop_body(body)? {
                         Step::Go => {}
                         Step::Stop => break,
@@ -488,6 +561,7 @@ impl Interp {
             Op::Foreach((i, name), list, body) => {
                 let items = self.eval_word(list)?.as_list()?;
                 for item in items.iter() {
+                    self.poll()?;
                     self.set_local(*i, name, item.clone())?;
                     match self.run_loop_body(body)? {
                         Step::Go => {}
@@ -508,7 +582,7 @@ impl Interp {
 
     /// A loop's body, and what the loop does next.
     #[inline]
-    fn run_loop_body(&mut self, body: &Body) -> Result<Step, Exception> {
+    fn run_loop_body(&mut self, body: &Body) -> Run<Step> {
         Ok(match self.run_body(body) {
             Ok(Outcome::Normal(_) | Outcome::Continue) => Step::Go,
             Ok(Outcome::Break) => Step::Stop,
@@ -560,6 +634,82 @@ impl Interp {
             },
         };
         self.invoke_cmd(cmd, &argv)
+    }
+
+    /// Evaluates a compiled expression (`expr::eval`'s rules, with the
+    /// 64-bit integer operators inline): literals and locals here, the
+    /// rest in `ceval_tree` (so the common leaves cost no call).
+    #[inline(always)]
+    fn ceval(&mut self, e: &CExpr) -> Run<Operand> {
+        match e {
+            CExpr::Lit(o) => Ok(o.clone()),
+            CExpr::Local(i, name) => Ok(self.local_operand(*i, name)?),
+            _ => self.ceval_tree(e),
+        }
+    }
+
+    fn ceval_tree(&mut self, e: &CExpr) -> Run<Operand> {
+        Ok(match e {
+            CExpr::Lit(o) => o.clone(),
+            CExpr::Local(i, name) => self.local_operand(*i, name)?,
+            CExpr::Word(w) => operand_of(self.eval_word(w)?),
+            CExpr::Unary(op, x) => {
+                let x = self.ceval(x)?;
+                expr::unary(*op, x)?
+            }
+            CExpr::Binary(op, a, b) => {
+                let x = self.ceval(a)?;
+                let y = self.ceval(b)?;
+                if let (Operand::Int(p), Operand::Int(q)) = (&x, &y)
+                    && let Some(r) = expr::binary_small(*op, *p, *q)
+                {
+                    return Ok(r);
+                }
+                expr::binary(*op, x, y)?
+            }
+            CExpr::And(a, b) => {
+                let r = self.ceval(a)?.truth()? && self.ceval(b)?.truth()?;
+                Operand::Int(r as i64)
+            }
+            CExpr::Or(a, b) => {
+                let r = self.ceval(a)?.truth()? || self.ceval(b)?.truth()?;
+                Operand::Int(r as i64)
+            }
+            CExpr::Ternary(c, a, b) => {
+                if self.ceval(c)?.truth()? {
+                    self.ceval(a)?
+                } else {
+                    self.ceval(b)?
+                }
+            }
+            CExpr::Call(f, args) => {
+                let mut vals = Vec::with_capacity(args.len());
+                for a in args {
+                    vals.push(self.ceval(a)?);
+                }
+                expr::call(self, *f, Func::NAMES[*f as usize], vals)?
+            }
+            CExpr::Custom(name, args) => {
+                let mut argv = Vec::with_capacity(args.len() + 1);
+                argv.push(Value::from(format!("tcl::mathfunc::{name}")));
+                for a in args {
+                    argv.push(self.ceval(a)?.into_value());
+                }
+                Operand::Str(self.invoke(&argv)?)
+            }
+        })
+    }
+
+    /// A local as an operand: a plain number when it holds one.
+    #[inline]
+    fn local_operand(&mut self, i: u32, name: &str) -> Result<Operand, Exception> {
+        if self.var_traces.is_empty()
+            && let Some(Some(cell)) = self.frames[self.cur].slots.get(i as usize)
+            && let Var::Scalar(v) = &*cell.borrow()
+        {
+            return Ok(operand_ref(v));
+        }
+        Ok(Operand::Str(self.get_var(name)?))
     }
 
     /// Reads local slot `i` (by name when it is not a plain scalar, for

@@ -913,6 +913,15 @@ impl Interp {
         if self.depth >= MAX_NATIVE_DEPTH {
             return Err(too_deep());
         }
+        self.poll()?;
+        self.depth += 1;
+        Ok(())
+    }
+
+    /// Ctrl-C and the command budget: checked at each command, and at
+    /// each turn of a compiled loop.
+    #[inline]
+    pub(crate) fn poll(&mut self) -> Result<(), Exception> {
         if let Some(flag) = self.interrupt
             && flag.load(std::sync::atomic::Ordering::Relaxed)
         {
@@ -924,7 +933,6 @@ impl Interp {
                 return Err(Exception::error(format!("command limit of {max} reached")));
             }
         }
-        self.depth += 1;
         Ok(())
     }
 
@@ -1097,7 +1105,11 @@ impl Interp {
         {
             return Some(c.clone());
         }
-        let c = Rc::new(compile::compile_proc(self, p)?);
+        // Command names resolve as in the proc's own namespace.
+        let ns = std::mem::replace(&mut self.ns, p.ns.clone());
+        let c = compile::compile_proc(self, p);
+        self.ns = ns;
+        let c = Rc::new(c?);
         *p.compiled.borrow_mut() = Some(c.clone());
         Some(c)
     }
@@ -1111,7 +1123,7 @@ impl Interp {
             Ok(Outcome::Normal(v) | Outcome::Return(v)) => Ok(v),
             Ok(Outcome::Break) => Err(Exception::flow(Code::Break, Value::empty())),
             Ok(Outcome::Continue) => Err(Exception::flow(Code::Continue, Value::empty())),
-            Err(e) => Err(end_unit(e, c.body.first_line())),
+            Err(e) => Err(end_unit(*e, c.body.first_line())),
         }
     }
 
@@ -1126,19 +1138,7 @@ impl Interp {
         self.enter()?;
         let op = expr::eval(self, ast);
         self.depth -= 1;
-        let op = op?;
-        let nan = match &op {
-            Operand::Int(_) => false,
-            Operand::Dbl(d) => d.is_nan(),
-            Operand::Big(_) => false,
-            Operand::Str(v) => matches!(v.as_num(), Some(Num::Double(d)) if d.is_nan()),
-        };
-        let v = op.into_value();
-        if nan {
-            return Err(Exception::error("domain error: argument not in valid range")
-                .with_error_code("ARITH DOMAIN {domain error: argument not in valid range}"));
-        }
-        Ok(v)
+        expr_result(op?)
     }
 
     #[inline]
@@ -1153,13 +1153,9 @@ impl Interp {
         self.enter()?;
         let v = expr::eval(self, ast);
         self.depth -= 1;
-        match v? {
-            Operand::Int(i) => Ok(i != 0),
-            Operand::Dbl(d) => Ok(d != 0.0),
-            Operand::Big(_) => Ok(true),
-            Operand::Str(v) => v.as_bool(),
-        }
+        cond_truth(v?)
     }
+
 
     pub(crate) fn expr_of(&mut self, v: &Value) -> Result<Rc<Expr>, Exception> {
         let (file, line) = match &*v.rep() {
@@ -1632,6 +1628,33 @@ impl Interp {
     /// Commands run so far (`info cmdcount`).
     pub(crate) fn commands_run(&self) -> u64 {
         self.commands_run
+    }
+}
+
+/// `expr`'s result: the operand as a value; NaN is a domain error.
+pub(crate) fn expr_result(op: Operand) -> TclResult {
+    let nan = match &op {
+        Operand::Int(_) => false,
+        Operand::Dbl(d) => d.is_nan(),
+        Operand::Big(_) => false,
+        Operand::Str(v) => matches!(v.as_num(), Some(Num::Double(d)) if d.is_nan()),
+    };
+    let v = op.into_value();
+    if nan {
+        return Err(Exception::error("domain error: argument not in valid range")
+            .with_error_code("ARITH DOMAIN {domain error: argument not in valid range}"));
+    }
+    Ok(v)
+}
+
+/// A condition's truth (`if`, `while`, `for`).
+#[inline]
+pub(crate) fn cond_truth(v: Operand) -> Result<bool, Exception> {
+    match v {
+        Operand::Int(i) => Ok(i != 0),
+        Operand::Dbl(d) => Ok(d != 0.0),
+        Operand::Big(_) => Ok(true),
+        Operand::Str(v) => v.as_bool(),
     }
 }
 

@@ -931,7 +931,7 @@ fn quick_int(o: &Operand) -> Option<i64> {
 /// Two 64-bit integers: the operators that cannot overflow or whose
 /// overflow is checked here, without building `Num`s.
 #[inline]
-fn binary_small(op: BinOp, x: i64, y: i64) -> Option<Operand> {
+pub(crate) fn binary_small(op: BinOp, x: i64, y: i64) -> Option<Operand> {
     Some(Operand::Int(match op {
         BinOp::Add => x.checked_add(y)?,
         BinOp::Sub => x.checked_sub(y)?,

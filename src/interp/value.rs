@@ -308,11 +308,34 @@ impl Value {
         Ok(())
     }
 
+    /// The integer or double this value is when it has no string form
+    /// yet (made by arithmetic: its string would be the canonical one), so
+    /// `expr` may use it as a plain number.
+    #[inline]
+    pub(crate) fn pure_number(&self) -> Option<Num> {
+        if self.0.string.get().is_some() {
+            return None;
+        }
+        match &*self.0.rep.borrow() {
+            Rep::Int(i) => Some(Num::Int(*i)),
+            Rep::Double(d) => Some(Num::Double(*d)),
+            _ => None,
+        }
+    }
+
     /// Makes this value the integer `i` in place when nothing else holds
     /// it (`incr` in a loop allocates nothing); false when it is shared.
     #[inline]
     pub(crate) fn set_int_in_place(&mut self, i: i64) -> bool {
         match Rc::get_mut(&mut self.0) {
+            Some(inner) if inner.string.get().is_none() => {
+                if let Rep::Int(x) = inner.rep.get_mut() {
+                    *x = i;
+                } else {
+                    *inner.rep.get_mut() = Rep::Int(i);
+                }
+                true
+            }
             Some(inner) => {
                 inner.string.take();
                 *inner.rep.get_mut() = Rep::Int(i);

@@ -1,6 +1,6 @@
-# Recursive fib 25 (242,785 calls): proc calls, if, expr, return.
+# Recursive fib 27 (635,621 calls): proc calls, if, expr, return.
 proc fib {n} {
     if {$n < 2} { return $n }
     return [expr {[fib [expr {$n - 1}]] + [fib [expr {$n - 2}]]}]
 }
-puts [fib 25]
+puts [fib 27]
