@@ -448,6 +448,16 @@ impl Interp {
     /// A compiled `[...]`: its `return`, `break` or `continue` leave as
     /// the exceptions the uncompiled script would raise.
     pub(crate) fn run_nested(&mut self, b: &Body) -> TclResult {
+        // `[expr {...}]`, the most common substitution, straight through.
+        if let ([Op::Expr(e)], [cmd], None) = (&b.ops[..], &b.script.cmds[..], &b.script.error)
+            && self.fast(b.epoch)
+        {
+            return self.ceval(e).and_then(|o| Ok(expr_result(o)?)).map_err(|mut e| {
+                let s = &b.script;
+                add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
+                *e
+            });
+        }
         self.enter()?;
         let r = self.run_body(b);
         self.leave();

@@ -161,6 +161,51 @@ fn deref_elem<'a>(cell: VarCell, idx: Option<&'a str>) -> (VarCell, Option<Cow<'
 pub(crate) type VarCell = Rc<RefCell<Var>>;
 pub(crate) type VarMap = IndexMap<Rc<str>, VarCell, rustc_hash::FxBuildHasher>;
 
+/// What proc calls reuse instead of allocating: argument vectors, slot
+/// arrays and variable cells of frames that have returned.
+#[derive(Default)]
+pub(crate) struct Pools {
+    objv: Vec<Vec<Value>>,
+    slots: Vec<Vec<Option<VarCell>>>,
+    cells: Vec<VarCell>,
+}
+
+impl Pools {
+    const MAX: usize = 256;
+
+    /// A variable cell holding `var`.
+    #[inline]
+    fn cell(&mut self, var: Var) -> VarCell {
+        match self.cells.pop() {
+            Some(c) => {
+                *c.borrow_mut() = var;
+                c
+            }
+            None => Rc::new(RefCell::new(var)),
+        }
+    }
+
+    /// Takes back what a returned frame held. Cells still shared (an
+    /// `upvar` from elsewhere, a coroutine) stay with their holders, and
+    /// none is reused while traces exist (they know cells by address).
+    fn recycle(&mut self, mut f: Frame, reuse_cells: bool) {
+        for c in f.slots.drain(..).flatten() {
+            if reuse_cells && Rc::strong_count(&c) == 1 && self.cells.len() < Self::MAX {
+                let old = std::mem::replace(&mut *c.borrow_mut(), Var::Undefined);
+                drop(old);
+                self.cells.push(c);
+            }
+        }
+        if self.slots.len() < Self::MAX {
+            self.slots.push(std::mem::take(&mut f.slots));
+        }
+        if self.objv.len() < Self::MAX && f.objv.capacity() <= 64 {
+            f.objv.clear();
+            self.objv.push(std::mem::take(&mut f.objv));
+        }
+    }
+}
+
 pub(crate) struct Frame {
     /// The namespace code in this frame runs in.
     pub(crate) ns: Rc<str>,
@@ -302,6 +347,8 @@ pub struct Interp {
     pub(crate) coro_base: usize,
     /// `namespace path`: each namespace's list of namespaces to look in.
     pub(crate) ns_paths: FxHashMap<String, Vec<String>>,
+    /// Reused by proc calls.
+    pools: Pools,
 }
 
 /// The host of an interpreter whose state has been moved out (into or out
@@ -398,6 +445,7 @@ impl Interp {
             current_coro: None,
             coro_base: 0,
             ns_paths: FxHashMap::default(),
+            pools: Pools::default(),
         }
     }
 
@@ -1046,18 +1094,21 @@ impl Interp {
         }
         let compiled = if p.lambda.is_none() { self.compiled_body(p) } else { None };
         let level = self.frames[self.cur].level + 1;
-        let mut frame = Frame::new(p.ns.clone(), level, self.cur, argv.to_vec());
-        let cell = |v| Some(Rc::new(RefCell::new(Var::Scalar(v))));
+        let mut objv = self.pools.objv.pop().unwrap_or_default();
+        objv.extend_from_slice(argv);
+        let mut frame = Frame::new(p.ns.clone(), level, self.cur, objv);
         match &compiled {
             Some(c) => {
                 // The parameters are the first slots.
-                frame.slots = args.into_iter().map(cell).collect();
-                frame.slots.resize(c.names.len(), None);
+                let mut slots = self.pools.slots.pop().unwrap_or_default();
+                slots.extend(args.into_iter().map(|v| Some(self.pools.cell(Var::Scalar(v)))));
+                slots.resize(c.names.len(), None);
+                frame.slots = slots;
                 frame.names = Some(c.names.clone());
             }
             None => {
                 for ((name, _), v) in p.params.iter().zip(args) {
-                    frame.vars.insert(name.clone(), cell(v).expect("a cell"));
+                    frame.vars.insert(name.clone(), Rc::new(RefCell::new(Var::Scalar(v))));
                 }
             }
         }
@@ -1072,7 +1123,9 @@ impl Interp {
         let dying =
             if self.var_traces.is_empty() { Vec::new() } else { self.traced_locals(self.cur) };
         self.ns = saved_ns;
-        self.frames.pop();
+        if let Some(f) = self.frames.pop() {
+            self.pools.recycle(f, self.var_traces.is_empty());
+        }
         self.cur = saved;
         if !dying.is_empty() {
             self.fire_frame_unset_traces(dying);
