@@ -14,12 +14,11 @@
 //! by default, from the machine's memory and `RLIMIT_AS`. This module is a
 //! leaf: every layer may use it, and it uses nothing of the crate.
 
-use std::alloc::System;
 use std::fmt;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 #[global_allocator]
-static HEAP: cap::Cap<System> = cap::Cap::new(System, usize::MAX);
+static HEAP: cap::Cap<mimalloc::MiMalloc> = cap::Cap::new(mimalloc::MiMalloc, usize::MAX);
 
 static BUDGET: AtomicUsize = AtomicUsize::new(usize::MAX);
 /// What the allocator's count-down reads when the budget is all in use

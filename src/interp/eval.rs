@@ -901,7 +901,18 @@ impl Interp {
         Ok(Value::from_string(out))
     }
 
+    /// A word's value: literals and compiled locals here, the rest in
+    /// `eval_word_tree` (so the common words cost no call).
+    #[inline]
     pub(crate) fn eval_word(&mut self, w: &Word) -> TclResult {
+        match w {
+            Word::Lit(v) => Ok(v.clone()),
+            Word::Local(i, name) => self.read_local(*i, name),
+            _ => self.eval_word_tree(w),
+        }
+    }
+
+    fn eval_word_tree(&mut self, w: &Word) -> TclResult {
         match w {
             Word::Lit(v) => Ok(v.clone()),
             Word::Var(name) => self.get_var_name(name),
@@ -932,7 +943,7 @@ impl Interp {
                 }
                 Ok(Value::from_string(out))
             }
-            Word::Expand(inner) => self.eval_word(inner),
+            Word::Expand(inner) => self.eval_word_tree(inner),
         }
     }
 

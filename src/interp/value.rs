@@ -250,7 +250,11 @@ impl Value {
     }
 
     /// The value as an integer of any size.
+    #[inline]
     pub fn as_integer(&self) -> Result<Num, Exception> {
+        if let Some(i) = self.cached_int() {
+            return Ok(Num::Int(i));
+        }
         match self.as_num() {
             Some(n @ (Num::Int(_) | Num::Big(_))) => Ok(n),
             _ => Err(number::int_error(self.as_str())),

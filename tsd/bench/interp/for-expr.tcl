@@ -1,4 +1,5 @@
 # Nested for loops with expr: 1M inner iterations.
+# ops: 1000000 iterations
 proc main {} {
     set s 0.0
     for {set i 0} {$i < 1000} {incr i} {

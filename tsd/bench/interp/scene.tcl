@@ -1,6 +1,7 @@
 # A coordinate-computing scene proc: a 300x300 height field, its vertex
 # coordinates and triangle indices computed in Tcl (what a .tsd generator
 # does before calling vertex and tri).
+# ops: 90000 cells
 proc height {x z} { expr {0.3 * sin(3.0 * $x) * cos(2.0 * $z) + 0.05 * $x * $z} }
 proc field {n} {
     set verts {}

@@ -1,4 +1,5 @@
 # while with incr: 2M iterations.
+# ops: 2000000 iterations
 proc main {} {
     set i 0
     set n 0
