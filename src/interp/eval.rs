@@ -139,7 +139,7 @@ pub trait Host {
 pub(crate) enum Var {
     Undefined,
     Scalar(Value),
-    Array(IndexMap<String, Value>),
+    Array(ArrayMap),
     /// `upvar a(k) e`: `e` stands for element `k` of the array in the cell.
     Elem(VarCell, Rc<str>),
 }
@@ -159,6 +159,9 @@ fn deref_elem<'a>(cell: VarCell, idx: Option<&'a str>) -> (VarCell, Option<Cow<'
 }
 
 pub(crate) type VarCell = Rc<RefCell<Var>>;
+/// An array's elements (in the order they were made; `array names` sorts
+/// them into Tcl's hash order itself).
+pub(crate) type ArrayMap = IndexMap<String, Value, rustc_hash::FxBuildHasher>;
 pub(crate) type VarMap = IndexMap<Rc<str>, VarCell, rustc_hash::FxBuildHasher>;
 
 /// What proc calls reuse instead of allocating: argument vectors, slot
@@ -1401,11 +1404,16 @@ impl Interp {
                     Err(Exception::error(format!("can't set \"{name}\": variable isn't array")))
                 }
                 Var::Array(a) => {
-                    a.insert(i.to_string(), v.clone());
+                    match a.get_mut(i) {
+                        Some(slot) => *slot = v.clone(),
+                        None => {
+                            a.insert(i.to_string(), v.clone());
+                        }
+                    }
                     Ok(v)
                 }
                 slot => {
-                    let mut a = IndexMap::new();
+                    let mut a = ArrayMap::default();
                     a.insert(i.to_string(), v.clone());
                     *slot = Var::Array(a);
                     Ok(v)
@@ -1461,7 +1469,7 @@ impl Interp {
                 let v = init.ok_or_else(missing)?;
                 *slot = match i {
                     None => Var::Scalar(v),
-                    Some(i) => Var::Array(IndexMap::from([(i.to_string(), v)])),
+                    Some(i) => Var::Array(ArrayMap::from_iter([(i.to_string(), v)])),
                 };
                 match (slot, i) {
                     (Var::Scalar(v), None) => v,

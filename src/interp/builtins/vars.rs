@@ -1,6 +1,5 @@
 //! Variables: set, unset, append, incr, global, upvar, array.
 
-use indexmap::IndexMap;
 
 use super::super::error::{Exception, TclResult};
 use super::super::eval::{Interp, Var, check_len};
@@ -264,7 +263,7 @@ fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
             if !interp.var_traces.is_empty() && !matches!(*cell.borrow(), Var::Scalar(_)) {
                 // Element by element, so write traces see each.
                 if !matches!(*cell.borrow(), Var::Array(_)) {
-                    *cell.borrow_mut() = Var::Array(IndexMap::new());
+                    *cell.borrow_mut() = Var::Array(Default::default());
                 }
                 for kv in items.chunks(2) {
                     interp.set_var(&format!("{name}({})", kv[0].as_str()), kv[1].clone())?;
@@ -278,7 +277,7 @@ fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 )));
             }
             if !matches!(&*var, Var::Array(_)) {
-                *var = Var::Array(IndexMap::new());
+                *var = Var::Array(Default::default());
             }
             if let Var::Array(a) = &mut *var {
                 for kv in items.chunks(2) {
