@@ -80,7 +80,9 @@ fn cmd_lrange(_: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn cmd_lappend(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "varName ?value ...?")?;
-    if !interp.var_traces.is_empty() {
+    // Tcl reads the variable (its read traces fire) only where it does not
+    // compile `lappend`: run directly, as a file's top level is.
+    if !interp.var_traces.is_empty() && interp.direct {
         interp.fire_read_traces_of(argv[1].as_str())?;
     }
     interp.update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| {

@@ -1,0 +1,181 @@
+# Compiled proc bodies (src/interp/compile.rs) must behave exactly as the
+# uncompiled interpreter and as tclsh: control flow, variables by slot and
+# by name, redefinition of the builtins they inline, traces, errors.
+
+proc ret_in_subst {} { set x [return 5]; puts notreached }
+puts [ret_in_subst]
+proc ret_in_loop {} {
+    for {set i 0} {$i < 5} {incr i} { if {$i == 2} { return [list got $i] } }
+}
+puts [ret_in_loop]
+proc loop_ctl {} {
+    set l {}
+    foreach x {1 2 3 4 5 6} {
+        if {$x == 2} continue
+        if {$x == 5} break
+        lappend l $x
+    }
+    set j 0
+    while 1 { incr j; if {$j >= 3} break }
+    lappend l $j
+}
+puts [loop_ctl]
+proc break_in_next {} {
+    set s 0
+    for {set i 0} {$i < 10} {incr i; if {$i > 5} break} { incr s $i }
+    return $s
+}
+puts [break_in_next]
+proc stray_break {} { break }
+puts [list [catch stray_break m] $m]
+proc stray_continue {} { if 1 { continue } }
+puts [list [catch stray_continue m] $m]
+proc subst_break {} { foreach x {1 2 3} { set y [break] }; return after }
+puts [subst_break]
+
+# Variables: links made by upvar, global and variable are slots too.
+proc via_upvar {} { set y 1; upvar 0 y z; incr z 5; append z !; return $y }
+puts [via_upvar]
+set g 10
+proc via_global {} { global g; incr g; lappend g x; set g }
+puts [via_global]; puts $g
+proc caller {} { set v 1; callee; return $v }
+proc callee {} { upvar 1 v w; incr w 100 }
+puts [caller]
+proc up_elem {} { set a(k) 1; upvar 0 a(k) e; incr e; set e 7; return $a(k) }
+puts [up_elem]
+proc unset_reset {} {
+    set x 1
+    unset x
+    set r [info exists x]
+    set x 2
+    lappend r $x [info exists x]
+}
+puts [unset_reset]
+proc arrays {} {
+    set a(1) one
+    set k 2
+    set a($k) two
+    incr a(n)
+    incr a(n) 4
+    append a(s) x y
+    lappend a(l) p q
+    list [lsort [array names a]] $a(1) $a($k) $a(n) $a(s) $a(l)
+}
+puts [arrays]
+proc array_as_scalar {} { set a(1) 1; set a }
+puts [list [catch array_as_scalar m] $m]
+proc scalar_as_array {} { set s 1; set s(1) 2 }
+puts [list [catch scalar_as_array m] $m]
+proc no_such {} { set r $nope }
+puts [list [catch no_such m] $m]
+proc vars_order {a b} { set z 1; set y 2; global g; list [info vars] [info locals] }
+puts [vars_order 1 2]
+proc incr_new {} { incr fresh; incr fresh 2; set fresh }
+puts [incr_new]
+proc incr_bad {} { set x abc; incr x }
+puts [list [catch incr_bad m] $m]
+proc incr_big {} { set x 9223372036854775807; incr x; incr x -1; incr x 10 }
+puts [incr_big]
+proc incr_shared {} { set a 1; set b $a; incr a; lappend l $a; incr a; list $a $b $l }
+puts [incr_shared]
+proc args_default {a {b 2} args} { list $a $b $args }
+puts [args_default 1]; puts [args_default 1 3 4 5]
+proc too_many {a} {}
+puts [list [catch {too_many 1 2} m] $m]
+
+# expr on locals: numbers as numbers, strings as strings.
+proc exprs {} {
+    set h 0x10
+    set d 2.5
+    set s abc
+    set i 7
+    list [expr {$h + 1}] [expr {$h eq "16"}] [expr {$h == 16}] [expr {$d * 2}] \
+        [expr {$s eq "abc"}] [expr {$s < "abd"}] [expr {$i / 2}] [expr {-$i % 3}] \
+        [expr {$i > 5 ? "big" : "small"}] [expr {$i & 3}] [expr {double($i)}] \
+        [expr {$i ** 2}] [expr {$i << 62}] [expr {sqrt($i*$i)}] [expr {$i in {1 7}}]
+}
+puts [exprs]
+proc expr_errors {} {
+    set r {}
+    set z 0
+    lappend r [catch {expr {1 / $z}} m] $m
+    set s abc
+    lappend r [catch {expr {$s + 1}} m] $m
+    lappend r [catch {expr {sqrt(-1)}} m] $m
+}
+puts [expr_errors]
+
+# Redefining a builtin the body inlines, even mid-body, takes effect at once.
+proc redefine {} {
+    set x 1
+    rename set _set
+    proc set {args} { return "my set $args" }
+    _set r [set x 2]
+    rename set {}
+    rename _set set
+    list $x $r
+}
+puts [redefine]
+namespace eval ns {
+    proc set {args} { return "ns set $args" }
+    proc p {} { set x 1 }
+    proc incr {args} { return "ns incr $args" }
+    proc q {} { incr y }
+}
+puts [ns::p]; puts [ns::q]
+proc later {} { if {[llength [info commands while]]} { return [while 0 {}] } }
+puts [list [later]]
+rename while _while
+proc while {args} { return "fake while" }
+puts [later]
+rename while {}
+rename _while while
+puts [list [later]]
+
+# Traces see every access of a compiled local.
+proc traced {} {
+    set x 1
+    trace add variable x write {apply {args {puts "write [lindex $args 0]"}}}
+    trace add variable x read {apply {args {puts "read [lindex $args 0]"}}}
+    set x 2
+    incr x
+    lappend x 3
+    set y [expr {$x}]
+    return $y
+}
+puts [traced]
+proc stepped {} { set a 1; incr a; return $a }
+trace add execution stepped enterstep {apply {{cmd op} {puts "step: $cmd"}}}
+puts [stepped]
+
+# Errors: the innermost command and the proc line, as tclsh logs them.
+proc deep_error {} {
+    set x 1
+    while {$x < 100} {
+        set x [expr {$x * 2}]
+        if {$x > 30} {
+            error "big $x"
+        }
+    }
+}
+catch deep_error m; puts $m; puts $::errorInfo
+proc bad_in_word {} {
+    foreach i {1 2} {
+        set v [lindex {a b} $i $i $i]
+    }
+    set w [nosuchcommand $v]
+}
+catch bad_in_word m; puts $m; puts $::errorInfo
+
+# Recursion through compiled bodies counts proc levels as Tcl does.
+proc depth {n} { if {$n} { return [depth [expr {$n - 1}]] }; return done }
+puts [depth 900]
+proc fib {n} { if {$n < 2} { return $n }; expr {[fib [expr {$n - 1}]] + [fib [expr {$n - 2}]]} }
+puts [fib 20]
+
+# Nesting deeper than the compiler inlines still runs.
+set body {set r deep}
+for {set i 0} {$i < 80} {incr i} { set body "if 1 {$body}" }
+proc nested {} "$body; return \$r"
+puts [nested]
