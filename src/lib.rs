@@ -8,8 +8,9 @@
 //! # Codemap (in reading order)
 //!
 //! - `interp`: a Tcl 8.6-compatible interpreter: `parser` (Script, Command,
-//!   Word), `value` (Value), `eval` (Interp), `stream` (whole files, the
-//!   scanner thread), `expr`, `builtins`. It knows nothing about graphics.
+//!   Word), `value` (Value), `eval` (Interp), `compile` (proc bodies as
+//!   trees with locals in slots), `stream` (whole files, the scanner
+//!   thread), `expr`, `builtins`. It knows nothing about graphics.
 //! - `geometry`: rays (with a time), boxes, spheres, watertight triangles,
 //!   the 4-wide BVH whose leaves hold blocks of four primitives tested in
 //!   SIMD lanes, and objects, leaves of their own kind (`object`): placed
@@ -64,6 +65,11 @@
 //! - Of hits within `bvh::TIE` of each other, the primitive added to the
 //!   scene first wins: coplanar surfaces resolve the same way for any tree
 //!   (still or moving), walk order, lane or thread count.
+//! - A compiled proc body (`interp/compile.rs`) is an optimisation, never
+//!   a second semantics: each compiled command keeps its parsed source and
+//!   runs it the ordinary way whenever a builtin it inlines was redefined
+//!   (`inline_epoch`) or a trace is set; a variable is found by name from
+//!   anywhere, slots included (`Frame::get`).
 //! - A Tcl coroutine runs on its own native stack and the `Interp` moves by
 //!   value between it and its resumer (`interp/builtins/coro.rs`): nothing
 //!   keeps a reference into the `Interp` across a `yield`, and a variable

@@ -1693,6 +1693,8 @@ impl Interp {
             set(self, &format!("tcl_platform({k})"), v);
         }
         set(self, "auto_path", "");
+        // A script runs non-interactively; the REPL sets it to 1.
+        set(self, "tcl_interactive", "0");
         // No script library ships with rayshell; TCL_LIBRARY names one.
         set(self, "tcl_library", &std::env::var("TCL_LIBRARY").unwrap_or_default());
     }

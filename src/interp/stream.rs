@@ -98,8 +98,29 @@ struct Batch {
 /// The UTF-8 byte order mark.
 pub const BOM: &[u8] = b"\xef\xbb\xbf";
 
+/// Tcl's `-translation auto` on input: `\r\n` and a lone `\r` end a line
+/// as `\n` does. Translates `buf[from..]` in place; `after_cr` carries a
+/// `\r` at the end of one read over to the next.
+pub(crate) fn translate_eol(buf: &mut Vec<u8>, from: usize, after_cr: &mut bool) {
+    if !*after_cr && !buf[from..].contains(&b'\r') {
+        return;
+    }
+    let mut w = from;
+    for r in from..buf.len() {
+        let c = buf[r];
+        if c == b'\n' && std::mem::take(after_cr) {
+            continue;
+        }
+        *after_cr = c == b'\r';
+        buf[w] = if c == b'\r' { b'\n' } else { c };
+        w += 1;
+    }
+    buf.truncate(w);
+}
+
 fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<Scanned>) {
     let mut buf: Vec<u8> = Vec::new();
+    let mut after_cr = false;
     let mut eof = false;
     let mut line = 1u32;
     let mut spans = SmallVec::new();
@@ -115,7 +136,10 @@ fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<Scanned>) {
             }
             let n0 = buf.len();
             match reader.take(want as u64).read_to_end(&mut buf) {
-                Ok(_) => eof = buf.len() == n0,
+                Ok(_) => {
+                    eof = buf.len() == n0;
+                    translate_eol(&mut buf, n0, &mut after_cr);
+                }
                 Err(e) => {
                     let _ = tx.send(Err((line, e)));
                     return;

@@ -197,6 +197,7 @@ pub fn eval_line(interp: &mut Interp, line: &str) -> Reply {
 /// Runs the REPL until Ctrl-D or `exit`; returns the exit code. Time spent
 /// waiting for typing is left out of `state`'s parse time.
 pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellState>) -> i32 {
+    let _ = interp.set_var("::tcl_interactive", crate::interp::Value::from("1"));
     let config =
         rustyline::Config::builder().completion_type(rustyline::CompletionType::List).build();
     let mut rl: Editor<ShellHelper, DefaultHistory> = match Editor::with_config(config) {

@@ -928,6 +928,10 @@ fn cmd_source(interp: &mut Interp, argv: &[Value]) -> TclResult {
         };
         Exception::error(format!("couldn't read file \"{path}\": {why}"))
     })?;
+    // Read as Tcl reads a script file: any end of line is `\n`.
+    let mut bytes = src.into_bytes();
+    super::super::stream::translate_eol(&mut bytes, 0, &mut false);
+    let src = String::from_utf8(bytes).expect("only ASCII bytes changed");
     interp.eval_source(&src, Some(path))
 }
 
