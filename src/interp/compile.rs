@@ -28,7 +28,7 @@ use super::error::{Code, Exception, TclResult};
 use super::eval::{CommandKind, Interp, Proc, Var, add_trace, cond_truth, expr_result};
 use super::expr::{self, BinOp, Expr, Func, Operand, UnOp};
 use super::number::Num;
-use super::parser::{Part, Script, VarName, Word};
+use super::parser::{Command, Part, Script, VarName, Word};
 use super::value::{Rep, Value};
 
 /// The commands compiled inline. Redefining any of them (in any
@@ -415,7 +415,25 @@ impl Interp {
     }
 
     /// Runs a compiled body inline (errors logged as in `eval_script`).
+    #[inline]
     pub(crate) fn run_body(&mut self, b: &Body) -> Run<Outcome> {
+        // A body of one command (most loop bodies and `[...]`): no loop.
+        if let ([op], [cmd], None) = (&b.ops[..], &b.script.cmds[..], &b.script.error)
+            && self.fast(b.epoch)
+        {
+            return self.run_one(op, cmd, &b.script);
+        }
+        self.run_body_all(b)
+    }
+
+    fn run_one(&mut self, op: &Op, cmd: &Command, s: &Script) -> Run<Outcome> {
+        self.run_op(op).map_err(|mut e| {
+            add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
+            e
+        })
+    }
+
+    fn run_body_all(&mut self, b: &Body) -> Run<Outcome> {
         let mut result = None;
         for (op, cmd) in b.ops.iter().zip(&b.script.cmds) {
             // Drop the previous result first so `lappend` can grow in place.

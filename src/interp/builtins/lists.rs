@@ -46,6 +46,10 @@ fn index_into(list: &Value, idx: &Value) -> TclResult {
 
 fn cmd_lindex(_: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "list ?index ...?")?;
+    if argv.len() == 3 && argv[2].cached_int().is_some() {
+        // One integer index (not read as a list: its integer stays).
+        return index_into(&argv[1], &argv[2]);
+    }
     let indices: Vec<Value> = if argv.len() == 3 {
         // A single index argument may itself be a list of indices.
         match argv[2].as_list() {
@@ -582,7 +586,10 @@ fn cmd_lset(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 3, usize::MAX, "listVar ?index? ?index ...? value")?;
     let cur = interp.get_var(argv[1].as_str())?;
     let value = argv[argv.len() - 1].clone();
-    let indices: Vec<Value> = if argv.len() == 4 {
+    let indices: Vec<Value> = if argv.len() == 4 && argv[2].cached_int().is_some() {
+        // One integer index (not read as a list: its integer stays).
+        vec![argv[2].clone()]
+    } else if argv.len() == 4 {
         argv[2].as_list()?.to_vec()
     } else {
         argv[2..argv.len() - 1].to_vec()

@@ -131,6 +131,9 @@ pub(crate) fn check_args(
 /// Parses a Tcl index (`3`, `end`, `end-1`, `2+1`) against a length.
 /// Returns an index that may be out of range (negative or >= len).
 pub(crate) fn parse_index(v: &Value, len: usize) -> Result<i64, Exception> {
+    if let Some(i) = v.cached_int() {
+        return Ok(i);
+    }
     let s = v.as_str().trim();
     let bad = || {
         Exception::error(format!(
