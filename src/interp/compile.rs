@@ -95,15 +95,26 @@ type Local = (u32, Rc<str>);
 enum Op {
     /// Any command: the words, and the command the first one last
     /// resolved to (with the `cmd_epoch` of that resolution).
-    Call { words: Vec<Word>, cache: RefCell<Option<(u64, CommandKind)>> },
+    Call {
+        words: Vec<Word>,
+        cache: RefCell<Option<(u64, CommandKind)>>,
+    },
     Get(Local),
     Set(Local, Word),
     Incr(Local, By),
     Append(Local, Vec<Word>),
     Lappend(Local, Vec<Word>),
-    If { arms: Vec<(CExpr, Body)>, otherwise: Option<Body> },
-    While(CExpr, Body),
-    For { start: Body, test: CExpr, next: Body, body: Body },
+    If {
+        arms: Vec<(CExpr, Body)>,
+        otherwise: Option<Body>,
+    },
+    /// `for`, and `while` (no start or next script).
+    For {
+        start: Option<Body>,
+        test: CExpr,
+        next: Option<Body>,
+        body: Body,
+    },
     Foreach(Local, Word, Body),
     Expr(CExpr),
     Return(Option<Word>),
@@ -314,12 +325,12 @@ impl Compiler<'_> {
             ("expr", 2) => Op::Expr(self.expr(&w[1])?),
             ("while", 3) => {
                 let test = self.expr(&w[1])?;
-                Op::While(test, self.nested(&w[2])?)
+                Op::For { start: None, test, next: None, body: self.nested(&w[2])? }
             }
             ("for", 5) => {
-                let start = self.nested(&w[1])?;
+                let start = Some(self.nested(&w[1])?);
                 let test = self.expr(&w[2])?;
-                let next = self.nested(&w[3])?;
+                let next = Some(self.nested(&w[3])?);
                 Op::For { start, test, next, body: self.nested(&w[4])? }
             }
             ("foreach", 4) => {
@@ -365,7 +376,9 @@ impl Compiler<'_> {
             match lits.get(i).map(Value::as_str) {
                 None => return Some(Op::If { arms, otherwise: None }),
                 Some("elseif") => i += 1,
-                Some("else") => return Some(Op::If { arms, otherwise: Some(self.nested(&w[i + 1])?) }),
+                Some("else") => {
+                    return Some(Op::If { arms, otherwise: Some(self.nested(&w[i + 1])?) });
+                }
                 Some(_) => return Some(Op::If { arms, otherwise: Some(self.nested(&w[i])?) }),
             }
         }
@@ -398,11 +411,7 @@ fn operand_ref(v: &Value) -> Operand {
 
 #[inline]
 fn operand_of(v: Value) -> Operand {
-    match v.pure_number() {
-        Some(Num::Int(i)) => Operand::Int(i),
-        Some(Num::Double(d)) => Operand::Dbl(d),
-        _ => Operand::Str(v),
-    }
+    operand_ref(&v)
 }
 
 impl Interp {
@@ -529,17 +538,13 @@ impl Interp {
         Ok(match op {
             Op::Call { .. } | Op::Set(..) | Op::Incr(..) => unreachable!("run_op runs these"),
             Op::Get((i, name)) => normal(self.read_local(*i, name)?),
-            Op::Append((i, name), words) => {
+            Op::Append((i, name), words) | Op::Lappend((i, name), words) => {
+                let change = match op {
+                    Op::Append(..) => super::builtins::append_strings,
+                    _ => super::builtins::append_elements,
+                };
                 let vals = self.eval_words(words)?;
-                normal(self.update_local(*i, name, &mut |v| {
-                    super::builtins::append_strings(v, &vals)
-                })?)
-            }
-            Op::Lappend((i, name), words) => {
-                let vals = self.eval_words(words)?;
-                normal(self.update_local(*i, name, &mut |v| {
-                    super::builtins::append_elements(v, &vals)
-                })?)
+                normal(self.update_local(*i, name, &mut |v| change(v, &vals))?)
             }
             Op::Expr(e) => normal(expr_result(self.ceval(e)?)?),
             Op::If { arms, otherwise } => {
@@ -553,22 +558,13 @@ impl Interp {
                     None => normal(Value::empty()),
                 }
             }
-            Op::While(test, body) => {
-                while cond_truth(self.ceval(test)?)? {
-                    self.poll()?;
-                    match self.run_loop_body(body)? {
-                        Step::Go => {}
-                        Step::Stop => break,
-                        Step::Out(out) => return Ok(out),
-                    }
-                }
-                normal(Value::empty())
-            }
             Op::For { start, test, next, body } => {
-                match self.run_body(start)? {
-                    Outcome::Normal(_) => {}
-                    // What `for` does with the code of its start script.
-                    out => return Ok(out),
+                if let Some(start) = start {
+                    match self.run_body(start)? {
+                        Outcome::Normal(_) => {}
+                        // What `for` does with the code of its start script.
+                        out => return Ok(out),
+                    }
                 }
                 while cond_truth(self.ceval(test)?)? {
                     self.poll()?;
@@ -578,10 +574,12 @@ impl Interp {
                         Step::Out(out) => return Ok(out),
                     }
                     // `break` in the next clause ends the loop, as in Tcl.
-                    match self.run_body(next)? {
-                        Outcome::Normal(_) => {}
-                        Outcome::Break => break,
-                        out => return Ok(out),
+                    if let Some(next) = next {
+                        match self.run_body(next)? {
+                            Outcome::Normal(_) => {}
+                            Outcome::Break => break,
+                            out => return Ok(out),
+                        }
                     }
                 }
                 normal(Value::empty())
@@ -627,7 +625,11 @@ impl Interp {
 
     /// A call site: the words substituted, the command from the cache
     /// while no command has changed since it was resolved.
-    fn run_call(&mut self, words: &[Word], cache: &RefCell<Option<(u64, CommandKind)>>) -> TclResult {
+    fn run_call(
+        &mut self,
+        words: &[Word],
+        cache: &RefCell<Option<(u64, CommandKind)>>,
+    ) -> TclResult {
         let mut argv: SmallVec<[Value; 8]> = SmallVec::new();
         let mut expanded = false;
         for w in words {

@@ -1223,7 +1223,6 @@ impl Interp {
         cond_truth(v?)
     }
 
-
     pub(crate) fn expr_of(&mut self, v: &Value) -> Result<Rc<Expr>, Exception> {
         let (file, line) = match &*v.rep() {
             Rep::Expr(e) => return Ok(e.clone()),

@@ -89,9 +89,8 @@ fn cmd_lappend(interp: &mut Interp, argv: &[Value]) -> TclResult {
     if !interp.var_traces.is_empty() && interp.direct {
         interp.fire_read_traces_of(argv[1].as_str())?;
     }
-    interp.update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| {
-        append_elements(v, &argv[2..])
-    })
+    interp
+        .update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| append_elements(v, &argv[2..]))
 }
 
 /// `lappend`'s change to the variable's value.

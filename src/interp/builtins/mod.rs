@@ -33,12 +33,12 @@ pub fn subcommands(command: &str) -> Option<&'static [&'static str]> {
 
 pub(crate) use chan::Channels;
 pub(crate) use control::{check_if, with_body_line};
-pub(crate) use lists::append_elements;
-pub(crate) use vars::append_strings;
 pub(crate) use coro::Coroutines;
+pub(crate) use lists::append_elements;
 pub(crate) use misc::PARRAY;
 pub use package::{Packages, TCL_PATCHLEVEL, TCL_VERSION};
 pub(crate) use trace::{CmdTraces, VarTraceTable};
+pub(crate) use vars::append_strings;
 
 use super::error::Exception;
 use super::eval::{Interp, NativeFn};

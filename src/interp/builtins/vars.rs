@@ -1,6 +1,5 @@
 //! Variables: set, unset, append, incr, global, upvar, array.
 
-
 use super::super::error::{Exception, TclResult};
 use super::super::eval::{Interp, Var, check_len};
 use super::super::number::{self, Num};
@@ -66,7 +65,8 @@ fn cmd_append(interp: &mut Interp, argv: &[Value]) -> TclResult {
     if argv.len() == 2 {
         return interp.get_var(argv[1].as_str());
     }
-    interp.update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| append_strings(v, &argv[2..]))
+    interp
+        .update_var(argv[1].as_str(), Some(Value::empty()), &mut |v| append_strings(v, &argv[2..]))
 }
 
 /// `append`'s change to the variable's value.
@@ -92,16 +92,16 @@ impl Interp {
             self.fire_read_traces_of(name)?;
         }
         self.update_var(name, Some(Value::from_int(0)), &mut |v| {
-        // The 64-bit path first; bignums when it overflows.
-        if let (Some(x), Num::Int(y)) = (v.cached_int(), &by)
-            && let Some(sum) = x.checked_add(*y)
-        {
-            *v = Value::from_int(sum);
-            return Ok(());
-        }
-        *v = Value::from_num(number::int_add(&v.as_integer()?, &by));
-        Ok(())
-    })
+            // The 64-bit path first; bignums when it overflows.
+            if let (Some(x), Num::Int(y)) = (v.cached_int(), &by)
+                && let Some(sum) = x.checked_add(*y)
+            {
+                *v = Value::from_int(sum);
+                return Ok(());
+            }
+            *v = Value::from_num(number::int_add(&v.as_integer()?, &by));
+            Ok(())
+        })
     }
 }
 
