@@ -44,3 +44,6 @@ foreach x {0 1 -1 127 128 32767 -32768 2147483647 -2147483648 922337203685477580
 set f [binary format f 0.1]; binary scan $f f g; puts $g
 binary scan [binary format d 1e308] d g; puts $g
 binary scan [binary format f 1e40] f g; puts $g
+# X at the start of the string stays there (a fuzzer found it underflowing).
+puts [string length [binary format X]]
+puts [string length [binary format a2XX3X a]]

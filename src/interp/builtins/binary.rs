@@ -248,8 +248,9 @@ fn format(args: &[Value]) -> TclResult {
                 at += n;
             }
             'X' => {
+                // Back, never before the start (`binary format X` is "").
                 let n = match f.count {
-                    Count::None => 1,
+                    Count::None => 1.min(at),
                     Count::All => at,
                     Count::N(n) => n.min(at),
                 };

@@ -84,9 +84,9 @@ fn cmd_lrange(_: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn cmd_lappend(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "varName ?value ...?")?;
-    // Tcl reads the variable (its read traces fire) only where it does not
-    // compile `lappend`: run directly, as a file's top level is.
-    if !interp.var_traces.is_empty() && interp.direct {
+    // Tcl reads the variable (its read traces fire) except where `lappend`
+    // compiles to a proc's local-variable instruction.
+    if !interp.var_traces.is_empty() && (interp.direct || interp.level() == 0) {
         interp.fire_read_traces_of(argv[1].as_str())?;
     }
     interp
