@@ -24,6 +24,7 @@ use std::rc::Rc;
 
 use smallvec::SmallVec;
 
+use super::cmdframe::At;
 use super::error::{Code, Exception, TclResult};
 use super::eval::{CommandKind, Interp, Proc, Var, add_trace, cond_truth, expr_result};
 use super::expr::{self, BinOp, Expr, Func, Operand, UnOp};
@@ -40,7 +41,7 @@ pub(crate) const INLINE_OPS: &[&str] = &[
 
 /// Nesting of literal bodies compiled inline; deeper ones run as ordinary
 /// commands (so compiling never recurses without a bound).
-const MAX_NESTING: usize = 64;
+const MAX_NESTING: usize = 16;
 
 /// A proc's compiled body and its local-variable table.
 pub(crate) struct CompiledProc {
@@ -53,6 +54,10 @@ pub(crate) struct CompiledProc {
 impl Body {
     pub(crate) fn first_line(&self) -> u32 {
         self.script.first_line
+    }
+
+    pub(crate) fn script(&self) -> &Script {
+        &self.script
     }
 }
 
@@ -98,6 +103,8 @@ enum Op {
     Call {
         words: Vec<Word>,
         cache: RefCell<Option<(u64, CommandKind)>>,
+        /// Its index among its body's commands (`info frame`).
+        at: u32,
     },
     Get(Local),
     Set(Local, Word),
@@ -156,7 +163,7 @@ struct Compiler<'a> {
 }
 
 /// Whether a variable name can be a slot: a plain local name.
-fn is_local_name(name: &str) -> bool {
+pub(crate) fn is_local_name(name: &str) -> bool {
     !name.is_empty() && !name.contains("::") && !name.contains('(') && name != "tcl_precision"
 }
 
@@ -181,7 +188,8 @@ impl Compiler<'_> {
 
     fn body(&mut self, script: Rc<Script>) -> Body {
         self.depth += 1;
-        let ops = script.cmds.iter().map(|c| self.command(&c.words)).collect();
+        let ops =
+            script.cmds.iter().enumerate().map(|(i, c)| self.command(&c.words, i as u32)).collect();
         self.depth -= 1;
         Body { script, ops, epoch: self.interp.inline_epoch }
     }
@@ -197,7 +205,7 @@ impl Compiler<'_> {
     fn expr(&mut self, w: &Word) -> Option<CExpr> {
         let Word::Lit(v) = w else { return None };
         let (file, line) = match &*v.rep() {
-            Rep::Origin(f, l) => (f.clone(), *l),
+            Rep::Origin(f, l, _) => (f.clone(), *l),
             _ => (None, 1),
         };
         let e = expr::parse(v.as_str(), file, line).ok()?;
@@ -272,8 +280,9 @@ impl Compiler<'_> {
         }
     }
 
-    fn call(&mut self, words: &[Word]) -> Op {
-        Op::Call { words: words.iter().map(|w| self.word(w)).collect(), cache: RefCell::new(None) }
+    fn call(&mut self, words: &[Word], at: u32) -> Op {
+        let words = words.iter().map(|w| self.word(w)).collect();
+        Op::Call { words, cache: RefCell::new(None), at }
     }
 
     /// Whether `name` here means the builtin of that name.
@@ -281,16 +290,16 @@ impl Compiler<'_> {
         self.interp.is_original_builtin(name)
     }
 
-    fn command(&mut self, words: &[Word]) -> Op {
-        let Some(Word::Lit(first)) = words.first() else { return self.call(words) };
+    fn command(&mut self, words: &[Word], at: u32) -> Op {
+        let Some(Word::Lit(first)) = words.first() else { return self.call(words, at) };
         let name = first.as_str();
         if !INLINE_OPS.contains(&name)
             || words.iter().any(|w| matches!(w, Word::Expand(_)))
             || !self.is_builtin(name)
         {
-            return self.call(words);
+            return self.call(words, at);
         }
-        self.inline(name, words).unwrap_or_else(|| self.call(words))
+        self.inline(name, words).unwrap_or_else(|| self.call(words, at))
     }
 
     /// A command compiled inline, when its words have the shape that
@@ -435,8 +444,8 @@ impl Interp {
         self.run_body_all(b)
     }
 
-    fn run_one(&mut self, op: &Op, cmd: &Command, s: &Script) -> Run<Outcome> {
-        self.run_op(op).map_err(|mut e| {
+    fn run_one(&mut self, op: &Op, cmd: &Command, s: &Rc<Script>) -> Run<Outcome> {
+        self.run_op(op, s).map_err(|mut e| {
             add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
             e
         })
@@ -444,13 +453,14 @@ impl Interp {
 
     fn run_body_all(&mut self, b: &Body) -> Run<Outcome> {
         let mut result = None;
-        for (op, cmd) in b.ops.iter().zip(&b.script.cmds) {
+        for (i, (op, cmd)) in b.ops.iter().zip(&b.script.cmds).enumerate() {
             // Drop the previous result first so `lappend` can grow in place.
             drop(result.take());
             let r = if self.fast(b.epoch) {
-                self.run_op(op)
+                self.run_op(op, &b.script)
             } else {
-                self.eval_command(cmd).map(Outcome::Normal).map_err(Box::new)
+                let at = || At::Cmd(b.script.clone(), i as u32);
+                self.eval_command(cmd, at).map(Outcome::Normal).map_err(Box::new)
             };
             match r {
                 Ok(Outcome::Normal(v)) => result = Some(v),
@@ -505,9 +515,11 @@ impl Interp {
     /// recurse beyond the compiled nesting (`MAX_NESTING`), so they skip
     /// `enter`; loops `poll` for Ctrl-C and the command budget each turn.
     #[inline(always)]
-    fn run_op(&mut self, op: &Op) -> Run<Outcome> {
+    fn run_op(&mut self, op: &Op, script: &Rc<Script>) -> Run<Outcome> {
         match op {
-            Op::Call { words, cache } => Ok(Outcome::Normal(self.run_call(words, cache)?)),
+            Op::Call { words, cache, at } => {
+                Ok(Outcome::Normal(self.run_call(words, cache, script, *at)?))
+            }
             Op::Incr((i, name), by) => {
                 let by = match by {
                     By::One => Num::Int(1),
@@ -629,6 +641,8 @@ impl Interp {
         &mut self,
         words: &[Word],
         cache: &RefCell<Option<(u64, CommandKind)>>,
+        script: &Rc<Script>,
+        at: u32,
     ) -> TclResult {
         let mut argv: SmallVec<[Value; 8]> = SmallVec::new();
         let mut expanded = false;
@@ -645,6 +659,7 @@ impl Interp {
         if argv.is_empty() {
             return Ok(Value::empty());
         }
+        self.note_at(At::Cmd(script.clone(), at));
         if expanded || !matches!(words[0], Word::Lit(_)) {
             return self.invoke(&argv);
         }

@@ -12,6 +12,7 @@ use indexmap::IndexMap;
 use rustc_hash::FxHashMap;
 use smallvec::SmallVec;
 
+use super::cmdframe::{At, Unit};
 use super::compile::{self, CompiledProc, Outcome};
 use super::error::{Code, Exception, Loc, TclResult};
 use super::expr::{self, Expr, Operand};
@@ -107,6 +108,9 @@ pub struct Proc {
     pub(crate) ns: Rc<str>,
     /// Its compiled body, made at the first call (`compile.rs`).
     pub(crate) compiled: RefCell<Option<Rc<CompiledProc>>>,
+    /// Whether its body was a literal word in a file when it was defined
+    /// (`info frame` then gives the file's lines; see `cmdframe.rs`).
+    pub(crate) in_file: bool,
 }
 
 /// What the interpreter needs from the outside world.
@@ -227,6 +231,8 @@ pub(crate) struct Frame {
     /// code reaches it by index; every other name lives in `vars`.
     pub(crate) names: Option<Rc<[Rc<str>]>>,
     pub(crate) slots: Vec<Option<VarCell>>,
+    /// The proc (or lambda) this is a call of.
+    pub(crate) proc: Option<Rc<Proc>>,
 }
 
 impl Frame {
@@ -240,6 +246,7 @@ impl Frame {
             links: Vec::new(),
             names: None,
             slots: Vec::new(),
+            proc: None,
         }
     }
 
@@ -352,6 +359,10 @@ pub struct Interp {
     pub(crate) ns_paths: FxHashMap<String, Vec<String>>,
     /// Reused by proc calls.
     pools: Pools,
+    /// The units of evaluation in progress (`info frame`; `cmdframe.rs`),
+    /// and where a running coroutine's own begin.
+    pub(crate) cmd_frames: Vec<super::cmdframe::CmdFrame>,
+    pub(crate) coro_cmd_base: usize,
 }
 
 /// The host of an interpreter whose state has been moved out (into or out
@@ -449,6 +460,8 @@ impl Interp {
             coro_base: 0,
             ns_paths: FxHashMap::default(),
             pools: Pools::default(),
+            cmd_frames: Vec::new(),
+            coro_cmd_base: 0,
         }
     }
 
@@ -789,12 +802,12 @@ impl Interp {
 
     /// The parsed form of a script value (cached on the value).
     pub(crate) fn script_of(v: &Value) -> Rc<Script> {
-        let (file, line) = match &*v.rep() {
+        let (file, line, cont) = match &*v.rep() {
             Rep::Script(s) => return s.clone(),
-            Rep::Origin(f, l) => (f.clone(), *l),
-            _ => (None, 1),
+            Rep::Origin(f, l, c) => (f.clone(), *l, c.clone()),
+            _ => (None, 1, None),
         };
-        let s = Rc::new(Script::parse(Rc::from(v.as_str()), file, line));
+        let s = Rc::new(Script::parse_with(Rc::from(v.as_str()), file, line, cont));
         v.set_rep(Rep::Script(s.clone()));
         s
     }
@@ -803,28 +816,70 @@ impl Interp {
     /// (what Tcl compiles separately: a proc body, a script for `eval`).
     pub fn eval(&mut self, script: &Value) -> TclResult {
         let s = Interp::script_of(script);
+        let unit = self.unit_of(script, s.true_first_line());
+        self.eval_unit(&s, unit)
+    }
+
+    /// `eval` for `uplevel`, which knows where a script came from only
+    /// when a directly evaluated command has it as a literal word.
+    pub(crate) fn eval_registered(&mut self, script: &Value) -> TclResult {
+        let s = Interp::script_of(script);
+        let unit = self.registered_unit(script, s.true_first_line());
+        self.eval_unit(&s, unit)
+    }
+
+    /// Evaluates a parsed script as a unit of its own, counting its lines
+    /// as `unit` says (`info frame`).
+    fn eval_unit(&mut self, s: &Rc<Script>, unit: Unit) -> TclResult {
+        self.begin_unit(unit);
+        self.eval_begun_unit(s)
+    }
+
+    fn eval_begun_unit(&mut self, s: &Rc<Script>) -> TclResult {
         let direct = std::mem::replace(&mut self.direct, false);
-        let r = self.eval_script(&s);
+        let r = self.eval_script(s);
         self.direct = direct;
+        self.end_unit_frame();
         r.map_err(|e| end_unit(e, s.first_line))
     }
 
     /// Evaluates the body of a command that Tcl compiles into the script
     /// around it (`if`, `while`, `catch`...; `foreach` and the like only
     /// inside procs): an error in it is logged as part of that script.
+    /// A body that is not a literal word of the command (`if 1 $body`)
+    /// cannot be compiled so, and runs as a unit of its own, as in Tcl.
     pub(crate) fn eval_inline(&mut self, script: &Value) -> TclResult {
-        if self.direct {
+        if self.direct || !self.is_current_literal(script) {
             return self.eval(script);
         }
-        let s = Interp::script_of(script);
-        self.eval_script(&s)
+        self.eval_in_unit(script)
     }
 
-    /// Evaluates a loop or `switch` body: inline inside a proc; outside,
-    /// a unit of its own that names itself, as `("foreach" body line 2)`.
+    /// Runs a script as part of the current unit; the command running
+    /// there is the same again afterwards (a loop asks of its body each
+    /// turn whether it is a literal word of the loop).
+    fn eval_in_unit(&mut self, script: &Value) -> TclResult {
+        let s = Interp::script_of(script);
+        let at = self.take_at();
+        let r = self.eval_script(&s);
+        self.put_at(at);
+        r
+    }
+
+    /// Evaluates a loop body: inline inside a proc; outside, a unit of
+    /// its own that names itself, as `("foreach" body line 2)`.
     pub(crate) fn eval_body(&mut self, script: &Value, what: &str) -> TclResult {
-        if self.level() > 0 && !self.direct {
-            return self.eval_inline(script);
+        if self.in_proc_body() && !self.direct && self.is_current_literal(script) {
+            return self.eval_in_unit(script);
+        }
+        self.eval(script).map_err(|e| super::builtins::with_body_line(e, what))
+    }
+
+    /// Evaluates a `switch` arm: inline inside a proc (the arms of a
+    /// literal list are compiled too); outside, a unit of its own.
+    pub(crate) fn eval_arm(&mut self, script: &Value, what: &str) -> TclResult {
+        if self.in_proc_body() && !self.direct {
+            return self.eval_in_unit(script);
         }
         self.eval(script).map_err(|e| super::builtins::with_body_line(e, what))
     }
@@ -838,12 +893,12 @@ impl Interp {
         self.in_frame(0, |i| i.eval_str(src))
     }
 
-    pub(crate) fn eval_script(&mut self, s: &Script) -> TclResult {
+    pub(crate) fn eval_script(&mut self, s: &Rc<Script>) -> TclResult {
         let mut result = Value::empty();
-        for cmd in &s.cmds {
+        for (i, cmd) in s.cmds.iter().enumerate() {
             // Drop the previous result first so `lappend` can grow in place.
             drop(std::mem::take(&mut result));
-            match self.eval_command(cmd) {
+            match self.eval_command(cmd, || At::Cmd(s.clone(), i as u32)) {
                 Ok(v) => result = v,
                 Err(mut e) => {
                     add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, self.direct);
@@ -863,7 +918,7 @@ impl Interp {
     /// Runs a whole source file (or stdin) command by command, without
     /// building the whole parse tree first: a mesh of a million commands
     /// streams through in constant memory.
-    pub(crate) fn eval_command(&mut self, cmd: &Command) -> TclResult {
+    pub(crate) fn eval_command(&mut self, cmd: &Command, at: impl FnOnce() -> At) -> TclResult {
         let mut argv: SmallVec<[Value; 8]> = SmallVec::new();
         for w in &cmd.words {
             match w {
@@ -877,6 +932,7 @@ impl Interp {
         if argv.is_empty() {
             return Ok(Value::empty());
         }
+        self.note_at(at());
         self.invoke(&argv)
     }
 
@@ -959,7 +1015,7 @@ impl Interp {
         }
     }
 
-    fn eval_nested(&mut self, s: &Script) -> TclResult {
+    fn eval_nested(&mut self, s: &Rc<Script>) -> TclResult {
         self.enter()?;
         let r = self.eval_script(s);
         self.depth -= 1;
@@ -1081,11 +1137,11 @@ impl Interp {
 
     /// Calls a lambda: `argv` is `apply`'s words (`apply`, the lambda
     /// term, the arguments), as `info level 0` shows them.
-    pub(crate) fn call_lambda(&mut self, p: &Proc, argv: &[Value]) -> TclResult {
-        self.call_proc(p, argv)
+    pub(crate) fn call_lambda(&mut self, p: Proc, argv: &[Value]) -> TclResult {
+        self.call_proc(&Rc::new(p), argv)
     }
 
-    fn call_proc(&mut self, p: &Proc, argv: &[Value]) -> TclResult {
+    fn call_proc(&mut self, p: &Rc<Proc>, argv: &[Value]) -> TclResult {
         // The words before the arguments: the name, or `apply` and the term.
         let skip = if p.lambda.is_some() { 2 } else { 1 };
         let n_args = argv.len() - skip;
@@ -1111,6 +1167,7 @@ impl Interp {
         let mut objv = self.pools.objv.pop().unwrap_or_default();
         objv.extend_from_slice(argv);
         let mut frame = Frame::new(p.ns.clone(), level, self.cur, objv);
+        frame.proc = Some(p.clone());
         match &compiled {
             Some(c) => {
                 // The parameters are the first slots.
@@ -1131,8 +1188,16 @@ impl Interp {
         self.cur = self.frames.len() - 1;
         let saved_ns = std::mem::replace(&mut self.ns, p.ns.clone());
         let r = match &compiled {
-            Some(c) => self.run_compiled(c),
-            None => self.eval(&p.body),
+            Some(c) => self.run_compiled(c, p.in_file),
+            None => {
+                let s = Interp::script_of(&p.body);
+                let unit = match &p.lambda {
+                    Some(term) => self.lambda_unit(term, &p.body),
+                    None => Unit::body(&s, p.in_file),
+                };
+                self.begin_body_unit(unit);
+                self.eval_begun_unit(&s)
+            }
         };
         let dying =
             if self.var_traces.is_empty() { Vec::new() } else { self.traced_locals(self.cur) };
@@ -1182,10 +1247,12 @@ impl Interp {
     }
 
     /// Runs a compiled proc body as `eval` runs a script: a unit of its own.
-    fn run_compiled(&mut self, c: &CompiledProc) -> TclResult {
+    fn run_compiled(&mut self, c: &CompiledProc, in_file: bool) -> TclResult {
+        self.begin_body_unit(Unit::body(c.body.script(), in_file));
         let direct = std::mem::replace(&mut self.direct, false);
         let r = self.run_body(&c.body);
         self.direct = direct;
+        self.end_unit_frame();
         match r {
             Ok(Outcome::Normal(v) | Outcome::Return(v)) => Ok(v),
             Ok(Outcome::Break) => Err(Exception::flow(Code::Break, Value::empty())),
@@ -1203,9 +1270,29 @@ impl Interp {
     /// Evaluates a parsed expression as `expr` does.
     pub(crate) fn eval_expr_ast(&mut self, ast: &Expr) -> TclResult {
         self.enter()?;
-        let op = expr::eval(self, ast);
+        let op = self.expr_unit(ast);
         self.depth -= 1;
         expr_result(op?)
+    }
+
+    /// An expression's operand. Evaluated directly (the main script's
+    /// top level), Tcl compiles an expression on its own, so its command
+    /// substitutions run in a unit of their own (`info frame`).
+    #[inline]
+    fn expr_unit(&mut self, ast: &Expr) -> Result<Operand, Exception> {
+        if !self.direct {
+            return expr::eval(self, ast);
+        }
+        self.begin_unit(Unit::eval(1));
+        self.direct = false;
+        let r = expr::eval(self, ast);
+        self.direct = true;
+        self.end_unit_frame();
+        // The command around it logs itself again.
+        r.map_err(|mut e| {
+            e.logged = false;
+            e
+        })
     }
 
     #[inline]
@@ -1218,7 +1305,7 @@ impl Interp {
     #[inline]
     pub(crate) fn eval_cond_ast(&mut self, ast: &Expr) -> Result<bool, Exception> {
         self.enter()?;
-        let v = expr::eval(self, ast);
+        let v = self.expr_unit(ast);
         self.depth -= 1;
         cond_truth(v?)
     }
@@ -1226,7 +1313,7 @@ impl Interp {
     pub(crate) fn expr_of(&mut self, v: &Value) -> Result<Rc<Expr>, Exception> {
         let (file, line) = match &*v.rep() {
             Rep::Expr(e) => return Ok(e.clone()),
-            Rep::Origin(f, l) => (f.clone(), *l),
+            Rep::Origin(f, l, _) => (f.clone(), *l),
             _ => (None, 1),
         };
         let e = Rc::new(expr::parse(v.as_str(), file, line)?);

@@ -6,6 +6,7 @@
 //! `builtins`, then the leaves `number`, `list`, `format`, `error`.
 
 mod builtins;
+mod cmdframe;
 mod compile;
 mod error;
 mod eval;

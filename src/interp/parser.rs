@@ -22,6 +22,25 @@ pub struct Script {
     pub(crate) file: Option<Rc<str>>,
     /// The absolute line of the script's first character.
     pub(crate) first_line: u32,
+    /// Lines its text lost to backslash-newlines its braces replaced by a
+    /// space (only `info frame` counts them, as Tcl does).
+    pub(crate) cont: Option<Rc<Cont>>,
+}
+
+/// The lines a braced word lost to backslash-newlines (each became a
+/// space): `base` were lost before the word's text starts (in the text
+/// around it), and one at each position in `at` within it.
+#[derive(Debug, Default)]
+pub(crate) struct Cont {
+    pub(crate) base: u32,
+    pub(crate) at: Box<[u32]>,
+}
+
+impl Cont {
+    /// Lines lost before byte `pos` of the text.
+    pub(crate) fn before(&self, pos: u32) -> u32 {
+        self.base + self.at.partition_point(|&p| p < pos) as u32
+    }
 }
 
 pub struct Command {
@@ -74,8 +93,19 @@ pub struct ParseError {
 
 impl Script {
     /// Parses a whole script. Commands up to the first syntax error are kept.
+    #[cfg(test)]
     pub fn parse(src: Rc<str>, file: Option<Rc<str>>, first_line: u32) -> Script {
-        let mut p = Parser::new(src.clone(), file.clone(), first_line);
+        Script::parse_with(src, file, first_line, None)
+    }
+
+    /// `parse` of a braced word's text, with the lines it lost.
+    pub(crate) fn parse_with(
+        src: Rc<str>,
+        file: Option<Rc<str>>,
+        first_line: u32,
+        cont: Option<Rc<Cont>>,
+    ) -> Script {
+        let mut p = Parser::new(src.clone(), file.clone(), first_line).with_cont(cont.clone());
         let mut cmds = Vec::new();
         let mut error = None;
         while let Some(r) = p.next_command() {
@@ -87,7 +117,18 @@ impl Script {
                 }
             }
         }
-        Script { cmds, error, src, file, first_line }
+        Script { cmds, error, src, file, first_line, cont }
+    }
+
+    /// The line of a command as `info frame` counts it: with the lines
+    /// backslash-newlines in braces took out.
+    pub(crate) fn true_line(&self, cmd: &Command) -> u32 {
+        cmd.line + self.cont.as_ref().map_or(0, |c| c.before(cmd.start))
+    }
+
+    /// The first line as `info frame` counts it.
+    pub(crate) fn true_first_line(&self) -> u32 {
+        self.first_line + self.cont.as_ref().map_or(0, |c| c.base)
     }
 
     /// A command's text as errorInfo shows it: with the blanks before its
@@ -359,11 +400,19 @@ pub struct Parser {
     ck_pos: usize,
     ck_line: u32,
     depth: usize,
+    /// The lines the text lost, if it is a braced word's (see `Cont`).
+    cont: Option<Rc<Cont>>,
 }
 
 impl Parser {
     pub fn new(src: Rc<str>, file: Option<Rc<str>>, first_line: u32) -> Parser {
-        Parser { src, pos: 0, file, ck_pos: 0, ck_line: first_line, depth: 0 }
+        Parser { src, pos: 0, file, ck_pos: 0, ck_line: first_line, depth: 0, cont: None }
+    }
+
+    /// The lines the text lost (see `Cont`), when it is a braced word's.
+    pub(crate) fn with_cont(mut self, cont: Option<Rc<Cont>>) -> Parser {
+        self.cont = cont;
+        self
     }
 
     pub fn src(&self) -> &Rc<str> {
@@ -379,6 +428,26 @@ impl Parser {
         }
         self.ck_pos = pos;
         self.ck_line
+    }
+
+    /// The lines a braced word at `open`..`close` lost: those this text
+    /// lost before it and inside it, and those its own braces took out.
+    fn word_cont(&self, open: usize, close: usize, lost: Vec<u32>) -> Option<Rc<Cont>> {
+        let start = open as u32 + 1;
+        let (base, mut at) = match &self.cont {
+            Some(c) => {
+                let inside = c.at.iter().filter(|&&p| p >= start && p < close as u32);
+                (c.before(start), inside.map(|p| p - start).collect::<Vec<u32>>())
+            }
+            None => (0, Vec::new()),
+        };
+        if base == 0 && at.is_empty() && lost.is_empty() {
+            return None;
+        }
+        // A text that lost lines has no backslash-newline left, so at most
+        // one of the two lists has anything.
+        at.extend(lost);
+        Some(Rc::new(Cont { base, at: at.into() }))
     }
 
     fn err(&mut self, msg: &str, at: usize, incomplete: bool, cmd_start: usize) -> ParseError {
@@ -550,6 +619,8 @@ impl Parser {
         let len = self.src.len();
         let mut depth = 1;
         let mut out: Option<String> = None;
+        // Where in the content a backslash-newline became a space.
+        let mut lost: Vec<u32> = Vec::new();
         let mut pos = open + 1;
         let mut run = pos;
         {
@@ -564,6 +635,7 @@ impl Parser {
                         if pos + 1 < len && b[pos + 1] == b'\n' {
                             let o = out.get_or_insert_with(String::new);
                             o.push_str(&self.src[run..pos]);
+                            lost.push(o.len() as u32);
                             o.push(' ');
                             pos += 2;
                             while pos < len && is_blank(b[pos]) {
@@ -601,7 +673,8 @@ impl Parser {
             return Err(self.err("extra characters after close-brace", self.pos, false, cmd_start));
         }
         let line = self.line_at(open);
-        Ok(Word::Lit(Value::with_origin(content, self.file.clone(), line)))
+        let cont = self.word_cont(open, pos, lost);
+        Ok(Word::Lit(Value::with_origin(content, self.file.clone(), line, cont)))
     }
 
     fn quoted(
@@ -730,6 +803,7 @@ impl Parser {
             src: self.src.clone(),
             file: self.file.clone(),
             first_line,
+            cont: self.cont.clone(),
         }))
     }
 

@@ -15,6 +15,7 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError, SyncSender, sync_channel};
 
 use smallvec::SmallVec;
 
+use super::cmdframe::{At, Text, Unit};
 use super::error::{Code, Exception, TclResult};
 use super::eval::{CommandKind, INTERRUPT_CODE, Interp, NumericFn, add_trace};
 use super::number::{self, Num};
@@ -204,7 +205,19 @@ fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<Scanned>) {
 impl Interp {
     /// Runs a whole script held in a string (the REPL, `-c`, `source`).
     pub fn eval_source(&mut self, src: &str, file: Option<&str>) -> TclResult {
-        self.with_script_file(file, |interp, file| {
+        self.run_source(src, file, true)
+    }
+
+    /// `source`: a file's commands run as Tcl runs a sourced file, one
+    /// compiled unit (the commands Tcl compiles inline, `if`, `while`,
+    /// `catch`..., add no unit of their own), where the main script and
+    /// the REPL evaluate each command directly.
+    pub(crate) fn source_script(&mut self, src: &str, file: &str) -> TclResult {
+        self.run_source(src, Some(file), false)
+    }
+
+    fn run_source(&mut self, src: &str, file: Option<&str>, direct: bool) -> TclResult {
+        self.with_script_file(file, direct, |interp, file| {
             let mut st = StreamState::default();
             let mut p = Parser::new(Rc::from(src), file.clone(), 1);
             interp.run_window(&mut p, &mut st, file, false)?;
@@ -221,7 +234,7 @@ impl Interp {
         file: Option<&str>,
         mut reader: Box<dyn Read + Send>,
     ) -> TclResult {
-        self.with_script_file(file, |interp, file| {
+        self.with_script_file(file, true, |interp, file| {
             let (tx, rx) = sync_channel(2);
             std::thread::Builder::new()
                 .name("scanner".into())
@@ -250,19 +263,28 @@ impl Interp {
     fn with_script_file(
         &mut self,
         file: Option<&str>,
+        direct: bool,
         f: impl FnOnce(&mut Interp, &Option<Rc<str>>) -> TclResult,
     ) -> TclResult {
         let file: Option<Rc<str>> = file.map(Rc::from);
         let saved_file = std::mem::replace(&mut self.script_file, file.clone());
-        let direct = std::mem::replace(&mut self.direct, true);
+        let outer_direct = std::mem::replace(&mut self.direct, direct);
+        self.begin_unit(Unit::top(&file));
+        if direct {
+            self.unit_is_direct();
+        }
         let r = f(self, &file);
-        self.direct = direct;
+        self.end_unit_frame();
+        self.direct = outer_direct;
         self.script_file = saved_file;
         match r {
             Err(mut e) if e.code == Code::Error => {
                 if let (Some(f), true) = (&file, e.script_line > 0) {
                     e.trace.push_str(&format!("\n    (file \"{f}\" line {})", e.script_line));
                 }
+                // The unit that ran the file logs its own command.
+                e.logged = false;
+                e.abs_line = 0;
                 Err(e)
             }
             // `return` ends the file, as it ends a proc (`-code error` is an error).
@@ -293,9 +315,10 @@ impl Interp {
                 }
                 None => {
                     let w = &batch.window;
+                    let text = Text::Shared(w.clone());
                     for &(line, start, end, first, n) in &batch.cmds {
                         let spans = &batch.words[first as usize..(first + n) as usize];
-                        self.exec_plain(w, line, start, end, spans, &mut st, file)?;
+                        self.exec_plain(&text, line, start, end, spans, &mut st, file)?;
                     }
                     match batch.stop {
                         Some((pos, line)) => (Rc::from(&w[pos..]), line),
@@ -318,7 +341,7 @@ impl Interp {
     #[allow(clippy::too_many_arguments)]
     fn exec_plain(
         &mut self,
-        text: &str,
+        source: &Text,
         line: u32,
         start: u32,
         end: u32,
@@ -326,13 +349,14 @@ impl Interp {
         st: &mut StreamState,
         file: &Option<Rc<str>>,
     ) -> Result<(), Exception> {
+        let text = source.as_str();
         match self.try_numeric(text, spans, &mut st.cache) {
             Some(Ok(n)) => {
                 st.last_num = Some(n);
                 return Ok(());
             }
             Some(Err(mut e)) => {
-                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file, true);
+                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file, self.direct);
                 return Err(e);
             }
             None => {}
@@ -353,6 +377,7 @@ impl Interp {
         st.last_num = None;
         // Drop the previous result first so `lappend` can grow in place.
         drop(std::mem::take(&mut st.result));
+        self.note_at(At::Plain(source.clone(), start, end, line));
         let r = self.invoke(&st.argv);
         st.pool.extend(st.argv.drain(..));
         st.pool.truncate(16);
@@ -362,7 +387,7 @@ impl Interp {
                 Ok(())
             }
             Err(mut e) => {
-                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file, true);
+                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file, self.direct);
                 Err(e)
             }
         }
@@ -382,7 +407,7 @@ impl Interp {
             match p.next_plain(&mut st.spans) {
                 Plain::End => return Ok(p.src().len()),
                 Plain::Cmd { line, start, end } => {
-                    let text = p.src().clone();
+                    let text = Text::Local(p.src().clone());
                     let spans = std::mem::take(&mut st.spans);
                     let r = self.exec_plain(&text, line, start, end, &spans, st, file);
                     st.spans = spans;
@@ -398,11 +423,13 @@ impl Interp {
                     st.last_num = None;
                     // Drop the previous result first so `lappend` can grow in place.
                     drop(std::mem::take(&mut st.result));
-                    match self.eval_command(&cmd) {
+                    let cmd = Rc::new(cmd);
+                    let at = || At::Loose(p.src().clone(), cmd.clone());
+                    match self.eval_command(&cmd, at) {
                         Ok(v) => st.result = v,
                         Err(mut e) => {
                             let text = &p.src()[cmd.start as usize..cmd.end as usize];
-                            add_trace(&mut e, text, cmd.line, 1, file, true);
+                            add_trace(&mut e, text, cmd.line, 1, file, self.direct);
                             return Err(e);
                         }
                     }
@@ -412,7 +439,7 @@ impl Interp {
                     let src = p.src();
                     let text = &src[pe.cmd_start as usize..(pe.pos as usize).min(src.len())];
                     let mut e = Exception::error(pe.msg.clone());
-                    add_trace(&mut e, text, pe.line, 1, file, true);
+                    add_trace(&mut e, text, pe.line, 1, file, self.direct);
                     return Err(e);
                 }
             }

@@ -77,7 +77,7 @@ pub(crate) enum Rep {
     Expr(Rc<Expr>),
     /// A braced word straight from the parser: where it came from, so a proc
     /// or loop body defined in a file reports that file's line numbers.
-    Origin(Option<Rc<str>>, u32),
+    Origin(Option<Rc<str>>, u32, Option<Rc<super::parser::Cont>>),
 }
 
 thread_local! {
@@ -144,11 +144,22 @@ impl Value {
         }))
     }
 
-    pub(crate) fn with_origin(s: String, file: Option<Rc<str>>, line: u32) -> Value {
+    pub(crate) fn with_origin(
+        s: String,
+        file: Option<Rc<str>>,
+        line: u32,
+        cont: Option<Rc<super::parser::Cont>>,
+    ) -> Value {
         Value(Rc::new(Inner {
             string: OnceCell::from(CompactString::from(s)),
-            rep: RefCell::new(Rep::Origin(file, line)),
+            rep: RefCell::new(Rep::Origin(file, line, cont)),
         }))
+    }
+
+    /// Whether both are the same value (not merely equal strings).
+    #[inline]
+    pub(crate) fn ptr_eq(&self, other: &Value) -> bool {
+        Rc::ptr_eq(&self.0, &other.0)
     }
 
     /// The string form, generated from the internal form on first use.

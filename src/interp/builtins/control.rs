@@ -281,8 +281,9 @@ fn cmd_apply(interp: &mut Interp, argv: &[Value]) -> TclResult {
             None => Rc::from(""),
         },
         compiled: Default::default(),
+        in_file: false,
     };
-    interp.call_lambda(&p, argv)
+    interp.call_lambda(p, argv)
 }
 
 fn cmd_subst(interp: &mut Interp, argv: &[Value]) -> TclResult {
@@ -298,7 +299,12 @@ fn cmd_subst(interp: &mut Interp, argv: &[Value]) -> TclResult {
         }
     }
     let text = &argv[argv.len() - 1];
-    let mut p = parser::Parser::new(Rc::from(text.as_str()), None, 1);
+    // A braced string keeps its lines (for `info frame` in its commands).
+    let (file, line, cont) = match &*text.rep() {
+        crate::interp::value::Rep::Origin(f, l, c) => (f.clone(), *l, c.clone()),
+        _ => (None, 1, None),
+    };
+    let mut p = parser::Parser::new(Rc::from(text.as_str()), file, line).with_cont(cont);
     let parts =
         p.subst_parts(backslashes, commands, variables).map_err(|e| Exception::error(e.msg))?;
     interp.subst(&parts)
@@ -466,7 +472,7 @@ fn cmd_switch(interp: &mut Interp, argv: &[Value]) -> TclResult {
             for body in pairs[k * 2..].chunks(2).map(|p| &p[1]) {
                 if body.as_str() != "-" {
                     let arm = format!("\"{}\" arm", pairs[k * 2].as_str());
-                    return interp.eval_body(body, &arm);
+                    return interp.eval_arm(body, &arm);
                 }
             }
             return Err(Exception::error(format!(
@@ -484,6 +490,7 @@ fn cmd_proc(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let name = interp.new_command_key(argv[1].as_str())?;
     // It runs in the namespace its name is in.
     let ns: Rc<str> = Rc::from(name.rsplit_once("::").map_or("", |(n, _)| n));
+    let in_file = interp.body_in_file(&argv[3]);
     interp.define_proc(Proc {
         name,
         params,
@@ -493,6 +500,7 @@ fn cmd_proc(interp: &mut Interp, argv: &[Value]) -> TclResult {
         lambda: None,
         ns,
         compiled: Default::default(),
+        in_file,
     });
     Ok(Value::empty())
 }
@@ -589,7 +597,12 @@ fn cmd_return(_: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn cmd_catch(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, 4, "script ?resultVarName? ?optionVarName?")?;
-    let r = interp.eval_inline(&argv[1]);
+    // Tcl compiles `catch` inline only without variables, or in a proc
+    // with plain local names; otherwise its script is a unit of its own.
+    let compiled = argv.len() == 2
+        || (interp.in_proc_body()
+            && argv[2..].iter().all(|v| crate::interp::compile::is_local_name(v.as_str())));
+    let r = if compiled { interp.eval_inline(&argv[1]) } else { interp.eval(&argv[1]) };
     if let Err(e) = &r
         && let Code::Exit(_) = e.code
     {
@@ -913,7 +926,9 @@ fn cmd_uplevel(interp: &mut Interp, argv: &[Value]) -> TclResult {
         (interp.resolve_level("1")?, &argv[1..])
     };
     let script = if rest.len() == 1 { rest[0].clone() } else { concat(rest)? };
-    interp.in_frame(frame, |i| i.eval(&script)).map_err(|e| with_body_line(e, "\"uplevel\" body"))
+    interp
+        .in_frame(frame, |i| i.eval_registered(&script))
+        .map_err(|e| with_body_line(e, "\"uplevel\" body"))
 }
 
 fn cmd_source(interp: &mut Interp, argv: &[Value]) -> TclResult {
@@ -932,7 +947,7 @@ fn cmd_source(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let mut bytes = src.into_bytes();
     super::super::stream::translate_eol(&mut bytes, 0, &mut false);
     let src = String::from_utf8(bytes).expect("only ASCII bytes changed");
-    interp.eval_source(&src, Some(path))
+    interp.source_script(&src, path)
 }
 
 fn cmd_exit(interp: &mut Interp, argv: &[Value]) -> TclResult {
@@ -1210,7 +1225,12 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 _ => super::coro::info_coroutine(interp),
             })
         }
-        "class" | "object" | "frame" | "errorstack" => {
+        "frame" => match args.len() {
+            0 => Ok(Value::from_int(interp.frame_count() as i64)),
+            1 => interp.frame_info(&args[0]),
+            _ => Err(usage("?number?")),
+        },
+        "class" | "object" | "errorstack" => {
             Err(Exception::error(format!("info {sub} is not supported by rayshell")))
         }
         "patchlevel" | "tclversion" | "nameofexecutable" => {

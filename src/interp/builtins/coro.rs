@@ -95,6 +95,7 @@ struct Registers {
     direct: bool,
     coro: Option<Rc<str>>,
     base: usize,
+    cmd_base: usize,
 }
 
 impl Registers {
@@ -107,6 +108,7 @@ impl Registers {
             direct: i.direct,
             coro: i.current_coro.clone(),
             base: i.coro_base,
+            cmd_base: i.coro_cmd_base,
         }
     }
 
@@ -118,6 +120,7 @@ impl Registers {
         i.direct = self.direct;
         i.current_coro = self.coro;
         i.coro_base = self.base;
+        i.coro_cmd_base = self.cmd_base;
     }
 }
 
@@ -158,6 +161,7 @@ fn switch_into(
     let saved = Registers::save(interp);
     interp.current_coro = Some(key.clone());
     interp.coro_base = interp.frames.len();
+    interp.coro_cmd_base = interp.cmd_frames.len();
     let base = interp.coro_base;
     let state = Box::new(std::mem::replace(interp, Interp::placeholder()));
     let reply = co.send(Resume { interp: state, arg, base, kill });
@@ -202,6 +206,7 @@ fn suspend(
 ) -> Result<Vec<Value>, Exception> {
     let base = interp.coro_base;
     let frames = interp.frames.split_off(base.min(interp.frames.len()));
+    let cmd_frames = interp.cmd_frames.split_off(interp.coro_cmd_base.min(interp.cmd_frames.len()));
     let mine = Registers::save(interp);
     let state = Box::new(std::mem::replace(interp, Interp::placeholder()));
     let back = generator::yield_::<Resume, Reply>(Reply { interp: state, result, yield_to });
@@ -215,10 +220,16 @@ fn suspend(
         f.caller = at(f.caller);
         interp.frames.push(f);
     }
+    let cmd_base = interp.cmd_frames.len();
+    for mut f in cmd_frames {
+        f.frame = at(f.frame);
+        interp.cmd_frames.push(f);
+    }
     let cur = at(mine.cur);
     mine.restore(interp);
     interp.cur = cur;
     interp.coro_base = new_base;
+    interp.coro_cmd_base = cmd_base;
     if kill {
         return Err(Exception::flow(Code::Exit(0), Value::from("coroutine deleted")));
     }
