@@ -26,7 +26,7 @@ use smallvec::SmallVec;
 
 use super::cmdframe::At;
 use super::error::{Code, Exception, TclResult};
-use super::eval::{CommandKind, Interp, Proc, Var, add_trace, cond_truth, expr_result};
+use super::eval::{CommandKind, Interp, Proc, Var, cond_truth, expr_result};
 use super::expr::{self, BinOp, Expr, Func, Operand, UnOp};
 use super::number::Num;
 use super::parser::{Command, Part, Script, VarName, Word};
@@ -446,7 +446,7 @@ impl Interp {
 
     fn run_one(&mut self, op: &Op, cmd: &Command, s: &Rc<Script>) -> Run<Outcome> {
         self.run_op(op, s).map_err(|mut e| {
-            add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
+            self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
             e
         })
     }
@@ -467,7 +467,7 @@ impl Interp {
                 Ok(other) => return Ok(other),
                 Err(mut e) => {
                     let s = &b.script;
-                    add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
+                    self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
                     return Err(e);
                 }
             }
@@ -476,7 +476,7 @@ impl Interp {
             let s = &b.script;
             let text = &s.src[pe.cmd_start as usize..(pe.pos as usize).min(s.src.len())];
             let mut e = Exception::error(pe.msg.clone());
-            add_trace(&mut e, text, pe.line, s.first_line, &s.file, false);
+            self.add_trace(&mut e, text, pe.line, s.first_line, &s.file, false);
             return Err(Box::new(e));
         }
         Ok(Outcome::Normal(result.unwrap_or_else(Value::empty)))
@@ -491,7 +491,7 @@ impl Interp {
         {
             return self.ceval(e).and_then(|o| Ok(expr_result(o)?)).map_err(|mut e| {
                 let s = &b.script;
-                add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
+                self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
                 *e
             });
         }

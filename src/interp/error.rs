@@ -77,6 +77,20 @@ pub struct Exception {
     /// Line (1-based, within the script that was running) of the command
     /// that failed, for `(procedure "f" line N)`.
     pub(crate) script_line: u32,
+    /// What few exceptions have (boxed, so control flow stays small).
+    pub(crate) ext: Option<Box<ExceptionExt>>,
+}
+
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ExceptionExt {
+    /// Tcl's `-errorstack` (TIP 348): `INNER` and the failing command,
+    /// then a `CALL` with each proc call's words (or `UP n` for an
+    /// `uplevel`) as the error leaves it; `None` until it is started.
+    pub(crate) errorstack: Option<Vec<Value>>,
+    /// The options given to `return`, `error` or `throw` (key, value, ...;
+    /// not `-code` or `-level`), in order: `catch` lists them first, as
+    /// Tcl's return options dictionary keeps them.
+    pub(crate) return_opts: Vec<Value>,
 }
 
 impl Exception {
@@ -94,6 +108,7 @@ impl Exception {
             error_code: None,
             loc: None,
             script_line: 0,
+            ext: None,
         }
     }
 
@@ -110,7 +125,20 @@ impl Exception {
             error_code: None,
             loc: None,
             script_line: 0,
+            ext: None,
         }
+    }
+
+    pub(crate) fn errorstack(&self) -> Option<&Vec<Value>> {
+        self.ext.as_ref()?.errorstack.as_ref()
+    }
+
+    pub(crate) fn return_opts(&self) -> &[Value] {
+        self.ext.as_ref().map_or(&[], |x| &x.return_opts)
+    }
+
+    pub(crate) fn ext_mut(&mut self) -> &mut ExceptionExt {
+        self.ext.get_or_insert_with(Default::default)
     }
 
     /// `wrong # args: should be "usage"`.

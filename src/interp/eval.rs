@@ -363,6 +363,8 @@ pub struct Interp {
     /// and where a running coroutine's own begin.
     pub(crate) cmd_frames: Vec<super::cmdframe::CmdFrame>,
     pub(crate) coro_cmd_base: usize,
+    /// The `-errorstack` of the last error caught (`info errorstack`).
+    pub(crate) errorstack: Value,
 }
 
 /// The host of an interpreter whose state has been moved out (into or out
@@ -462,6 +464,7 @@ impl Interp {
             pools: Pools::default(),
             cmd_frames: Vec::new(),
             coro_cmd_base: 0,
+            errorstack: Value::empty(),
         }
     }
 
@@ -849,10 +852,17 @@ impl Interp {
     /// A body that is not a literal word of the command (`if 1 $body`)
     /// cannot be compiled so, and runs as a unit of its own, as in Tcl.
     pub(crate) fn eval_inline(&mut self, script: &Value) -> TclResult {
-        if self.direct || !self.is_current_literal(script) {
+        if self.inline_is_unit(script) {
             return self.eval(script);
         }
         self.eval_in_unit(script)
+    }
+
+    /// Whether `eval_inline` runs `script` as a unit of its own (where
+    /// Tcl invokes the command instead of compiling it, and its errors
+    /// name the body they came from).
+    pub(crate) fn inline_is_unit(&self, script: &Value) -> bool {
+        self.direct || !self.is_current_literal(script)
     }
 
     /// Runs a script as part of the current unit; the command running
@@ -901,7 +911,14 @@ impl Interp {
             match self.eval_command(cmd, || At::Cmd(s.clone(), i as u32)) {
                 Ok(v) => result = v,
                 Err(mut e) => {
-                    add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, self.direct);
+                    self.add_trace(
+                        &mut e,
+                        s.text(cmd),
+                        cmd.line,
+                        s.first_line,
+                        &s.file,
+                        self.direct,
+                    );
                     return Err(e);
                 }
             }
@@ -909,7 +926,7 @@ impl Interp {
         if let Some(pe) = &s.error {
             let text = &s.src[pe.cmd_start as usize..(pe.pos as usize).min(s.src.len())];
             let mut e = Exception::error(pe.msg.clone());
-            add_trace(&mut e, text, pe.line, s.first_line, &s.file, self.direct);
+            self.add_trace(&mut e, text, pe.line, s.first_line, &s.file, self.direct);
             return Err(e);
         }
         Ok(result)
@@ -1095,6 +1112,15 @@ impl Interp {
             let key = self.command_key(argv[0].as_str());
             self.invoke_traced(key, argv, cmd)
         };
+        if let Err(e) = &mut r
+            && e.code == Code::Error
+            && e.errorstack().is_none()
+            && !e.logged
+            && !self.direct
+        {
+            let inner = inner_context(argv, e);
+            e.ext_mut().errorstack = Some(vec![Value::from("INNER"), inner]);
+        }
         // `tailcall`: the proc has returned; its successor runs here, in
         // the caller's frame, as a loop (a tail-recursive proc runs in
         // constant depth).
@@ -1932,7 +1958,59 @@ pub(crate) fn check_list_len(n: usize) -> Result<(), Exception> {
 /// evaluation unit (the innermost command of a proc body, say, and not the
 /// commands around it in that body), but every command when evaluating
 /// `direct`ly (a source file's top level, where Tcl compiles nothing).
-pub(crate) fn add_trace(
+impl Interp {
+    /// Logs the command an error passed through (`add_trace_text`), and
+    /// where it left from in `-errorstack`: the first logging notes the
+    /// failing command, each logging in a proc's body that call, and one
+    /// under `uplevel` how many levels up it ran (TclLogCommandInfo).
+    pub(crate) fn add_trace(
+        &self,
+        e: &mut Exception,
+        text: &str,
+        line: u32,
+        first_line: u32,
+        file: &Option<Rc<str>>,
+        direct: bool,
+    ) {
+        if e.code == Code::Error && !e.logged {
+            let stack = e.ext_mut().errorstack.get_or_insert_with(|| {
+                vec![Value::from("INNER"), Value::from(text.trim_end_matches([' ', '\t']))]
+            });
+            let top = self.frames.len() - 1;
+            let f = &self.frames[top];
+            if f.objv.is_empty() {
+                // The global frame (or a coroutine's start): nothing to say.
+            } else if self.cur != top {
+                stack.push(Value::from("UP"));
+                stack.push(Value::from_int((f.level - self.frames[self.cur].level) as i64));
+            } else {
+                stack.push(Value::from("CALL"));
+                stack.push(Value::from_list(f.objv.clone()));
+            }
+        }
+        add_trace_text(e, text, line, first_line, file, direct);
+    }
+}
+
+/// The innermost command of an error in compiled code, as Tcl's
+/// `-errorstack` names it: the instruction and its operands (`error msg`
+/// compiles to `returnImm`, reading a variable to `loadStk`, a call to
+/// `invokeStk1`).
+fn inner_context(argv: &[Value], e: &Exception) -> Value {
+    let mut words = Vec::with_capacity(argv.len() + 1);
+    if matches!(argv[0].as_str(), "error" | "throw" | "return") {
+        let opts = Value::from_list(e.return_opts().to_vec());
+        words.extend([Value::from("returnImm"), e.value.clone(), opts]);
+    } else if argv.len() == 2 && argv[0].as_str() == "set" {
+        return Value::from("loadStk");
+    } else {
+        words.push(Value::from("invokeStk1"));
+        words.extend(argv.iter().cloned());
+    }
+    Value::from_list(words)
+}
+
+fn add_trace_text(
     e: &mut Exception,
     text: &str,
     line: u32,
@@ -2007,6 +2085,7 @@ pub(crate) fn finish_return(mut e: Exception) -> TclResult {
         Some(Code::Error) => {
             let mut err = Exception::error(e.value.as_str().to_string());
             err.error_code = e.error_code;
+            err.ext = e.ext;
             if e.traced {
                 err.trace = e.trace;
                 err.traced = true;

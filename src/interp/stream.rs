@@ -17,7 +17,7 @@ use smallvec::SmallVec;
 
 use super::cmdframe::{At, Text, Unit};
 use super::error::{Code, Exception, TclResult};
-use super::eval::{CommandKind, INTERRUPT_CODE, Interp, NumericFn, add_trace};
+use super::eval::{CommandKind, INTERRUPT_CODE, Interp, NumericFn};
 use super::number::{self, Num};
 use super::parser::{Parser, Plain, PlainScanner, PlainWord};
 use super::value::Value;
@@ -356,7 +356,14 @@ impl Interp {
                 return Ok(());
             }
             Some(Err(mut e)) => {
-                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file, self.direct);
+                self.add_trace(
+                    &mut e,
+                    &text[start as usize..end as usize],
+                    line,
+                    1,
+                    file,
+                    self.direct,
+                );
                 return Err(e);
             }
             None => {}
@@ -387,7 +394,14 @@ impl Interp {
                 Ok(())
             }
             Err(mut e) => {
-                add_trace(&mut e, &text[start as usize..end as usize], line, 1, file, self.direct);
+                self.add_trace(
+                    &mut e,
+                    &text[start as usize..end as usize],
+                    line,
+                    1,
+                    file,
+                    self.direct,
+                );
                 Err(e)
             }
         }
@@ -429,7 +443,7 @@ impl Interp {
                         Ok(v) => st.result = v,
                         Err(mut e) => {
                             let text = &p.src()[cmd.start as usize..cmd.end as usize];
-                            add_trace(&mut e, text, cmd.line, 1, file, self.direct);
+                            self.add_trace(&mut e, text, cmd.line, 1, file, self.direct);
                             return Err(e);
                         }
                     }
@@ -439,7 +453,7 @@ impl Interp {
                     let src = p.src();
                     let text = &src[pe.cmd_start as usize..(pe.pos as usize).min(src.len())];
                     let mut e = Exception::error(pe.msg.clone());
-                    add_trace(&mut e, text, pe.line, 1, file, self.direct);
+                    self.add_trace(&mut e, text, pe.line, 1, file, self.direct);
                     return Err(e);
                 }
             }

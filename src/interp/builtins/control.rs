@@ -9,6 +9,7 @@ use super::super::eval::{Interp, Proc, Var};
 use super::super::parser;
 use super::super::value::Value;
 use super::{Entry, check_args, glob_match, pick_option};
+use crate::interp::compile;
 
 pub(super) const COMMANDS: &[Entry] = &[
     (
@@ -174,19 +175,28 @@ fn cmd_expr(interp: &mut Interp, argv: &[Value]) -> TclResult {
 
 fn cmd_while(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 3, 3, "test command")?;
+    let unit = interp.inline_is_unit(&argv[2]);
     while interp.eval_cond(&argv[1])? {
-        if let Flow::Stop = loop_body(interp.eval_inline(&argv[2]))? {
+        let r = interp.eval_inline(&argv[2]);
+        if let Flow::Stop = loop_body(named_body(r, unit, "\"while\" body"))? {
             break;
         }
     }
     Ok(Value::empty())
 }
 
+/// A loop body's outcome; run as a unit of its own, its error names it.
+fn named_body(r: TclResult, unit: bool, what: &str) -> TclResult {
+    if unit { r.map_err(|e| with_body_line(e, what)) } else { r }
+}
+
 fn cmd_for(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 5, 5, "start test next command")?;
+    let unit = interp.inline_is_unit(&argv[4]);
     interp.eval_inline(&argv[1])?;
     while interp.eval_cond(&argv[2])? {
-        if let Flow::Stop = loop_body(interp.eval_inline(&argv[4]))? {
+        let r = interp.eval_inline(&argv[4]);
+        if let Flow::Stop = loop_body(named_body(r, unit, "\"for\" body"))? {
             break;
         }
         // `break` in the next clause ends the loop, as in Tcl.
@@ -528,6 +538,7 @@ fn cmd_return(_: &mut Interp, argv: &[Value]) -> TclResult {
     let mut level = 1u32;
     let mut error_code = None;
     let mut error_info = None;
+    let mut error_stack = None;
     // The options, `-options` dictionaries spread out in place.
     let mut opts: Vec<Value> = Vec::new();
     let mut i = 1;
@@ -561,16 +572,26 @@ fn cmd_return(_: &mut Interp, argv: &[Value]) -> TclResult {
             }
             "-errorcode" => error_code = Some(v.clone()),
             "-errorinfo" => error_info = Some(v.as_str().to_string()),
+            "-errorstack" => error_stack = Some(v.as_list()?.to_vec()),
             _ => {}
         }
     }
     let value = if i < argv.len() { argv[i].clone() } else { Value::empty() };
+    // The options a catch lists first, in order.
+    let mut given = Vec::new();
+    for kv in opts.chunks(2) {
+        if !matches!(kv[0].as_str(), "-code" | "-level") {
+            put_opt(&mut given, kv[0].as_str(), kv[1].clone());
+        }
+    }
     let with_info = |mut e: Exception| {
         if let Some(info) = &error_info {
             e.trace = info.clone();
             e.traced = true;
             e.logged = true;
         }
+        e.ext_mut().errorstack = error_stack.clone();
+        e.ext_mut().return_opts = given.clone();
         e
     };
     if level == 0 {
@@ -581,13 +602,19 @@ fn cmd_return(_: &mut Interp, argv: &[Value]) -> TclResult {
                 e.error_code = error_code;
                 Err(with_info(e))
             }
-            Some(c) => Err(Exception::flow(c, value)),
+            Some(c) => {
+                let mut e = Exception::flow(c, value);
+                e.ext_mut().return_opts = given;
+                Err(e)
+            }
         };
     }
     let mut e = Exception::flow(Code::Return, value);
+    e.ext_mut().return_opts = given;
     e.return_code = code;
     e.level = level;
     e.error_code = error_code;
+    e.ext_mut().errorstack = error_stack;
     if let Some(info) = error_info {
         e.trace = info;
         e.traced = true;
@@ -600,8 +627,7 @@ fn cmd_catch(interp: &mut Interp, argv: &[Value]) -> TclResult {
     // Tcl compiles `catch` inline only without variables, or in a proc
     // with plain local names; otherwise its script is a unit of its own.
     let compiled = argv.len() == 2
-        || (interp.in_proc_body()
-            && argv[2..].iter().all(|v| crate::interp::compile::is_local_name(v.as_str())));
+        || (interp.in_proc_body() && argv[2..].iter().all(|v| compile::is_local_name(v.as_str())));
     let r = if compiled { interp.eval_inline(&argv[1]) } else { interp.eval(&argv[1]) };
     if let Err(e) = &r
         && let Code::Exit(_) = e.code
@@ -635,34 +661,48 @@ fn outcome(interp: &mut Interp, r: &TclResult) -> Result<(i64, Value, Value), Ex
         }
         Err(e) => e,
     };
-    let mut opts = Vec::new();
+    // The options given first, then what every outcome has, as Tcl
+    // builds its return options dictionary (TclGetReturnOptions).
+    let mut opts = e.return_opts().to_vec();
     if e.code == Code::Return {
         // `return -code c -level n`: the code it will become, and the levels
         // still to go.
         let c = e.return_code.map_or(0, Code::as_int);
+        put_opt(&mut opts, "-code", Value::from_int(c));
+        put_opt(&mut opts, "-level", Value::from_int(e.level as i64));
         if e.return_code == Some(Code::Error) || e.error_code.is_some() {
-            opts.extend([Value::from("-errorcode"), e.error_code()]);
+            put_opt(&mut opts, "-errorcode", e.error_code());
         }
-        opts.extend([Value::from("-code"), Value::from_int(c), Value::from("-level")]);
-        opts.push(Value::from_int(e.level as i64));
         return Ok((2, e.value.clone(), Value::from_list(opts)));
     }
-    opts.extend([Value::from("-code"), Value::from_int(e.code.as_int()), Value::from("-level")]);
-    opts.push(Value::from_int(0));
+    put_opt(&mut opts, "-code", Value::from_int(e.code.as_int()));
+    put_opt(&mut opts, "-level", Value::from_int(0));
     if e.code == Code::Error {
+        // An error whose errorInfo was given was never logged, so, as in
+        // Tcl, the stack of the error before it stands.
+        let stack = match e.errorstack() {
+            Some(s) => Value::from_list(s.clone()),
+            None => interp.errorstack.clone(),
+        };
+        interp.errorstack = stack.clone();
+        put_opt(&mut opts, "-errorstack", stack);
         // As in Tcl, a failing trace on these cannot stop the `catch`.
         let _ = interp.set_var("::errorCode", e.error_code());
         let _ = interp.set_var("::errorInfo", Value::from(e.error_info()));
-        opts.extend([
-            Value::from("-errorcode"),
-            e.error_code(),
-            Value::from("-errorinfo"),
-            Value::from(e.error_info()),
-            Value::from("-errorline"),
-            Value::from_int(e.script_line as i64),
-        ]);
+        put_opt(&mut opts, "-errorcode", e.error_code());
+        put_opt(&mut opts, "-errorinfo", Value::from(e.error_info()));
+        put_opt(&mut opts, "-errorline", Value::from_int(e.script_line as i64));
     }
     Ok((e.code.as_int(), e.value.clone(), Value::from_list(opts)))
+}
+
+/// Sets `key` in an options list (key, value, ...): in place when it is
+/// there, at the end otherwise.
+fn put_opt(opts: &mut Vec<Value>, key: &str, v: Value) {
+    match opts.chunks(2).position(|kv| kv[0].as_str() == key) {
+        Some(i) if 2 * i + 1 < opts.len() => opts[2 * i + 1] = v,
+        _ => opts.extend([Value::from(key), v]),
+    }
 }
 
 /// `try body ?on code vars script? ?trap pattern vars script? ... ?finally script?`
@@ -720,16 +760,40 @@ fn cmd_try(interp: &mut Interp, argv: &[Value]) -> TclResult {
     if handlers.last().is_some_and(|h| h.2.as_str() == "-") {
         return Err(Exception::error("last non-finally clause must not have a body of \"-\""));
     }
-    let r = interp.eval_inline(&argv[1]);
+    // Tcl compiles `try` only where its handlers' variables can be
+    // locals (none, or plain names in a proc); otherwise it is invoked and
+    // its scripts are units of their own.
+    let in_proc = interp.in_proc_body();
+    let trap = handlers.iter().any(|(m, _, _)| matches!(m, Match::Trap(_)));
+    let compiled = handlers.iter().all(|(_, vars, _)| vars.is_empty())
+        || (in_proc
+            && handlers
+                .iter()
+                .all(|(_, vars, _)| vars.iter().all(|v| compile::is_local_name(v.as_str()))));
+    let run = |interp: &mut Interp, script: &Value| {
+        if compiled { interp.eval_inline(script) } else { interp.eval(script) }
+    };
+    // A script that errs names itself in errorInfo where Tcl's try does
+    // (run as a unit of its own; a handled body outside procs or with a
+    // `trap`; a handler outside procs), and the `try` then logs nothing
+    // more.
+    let name = |e: &mut Exception, yes: bool, what: &str| {
+        if yes && e.code == Code::Error {
+            e.trace.push_str(&format!("\n    ({what} line {})", e.script_line));
+            e.logged = true;
+        }
+    };
+    let unit = !compiled || interp.inline_is_unit(&argv[1]);
+    let mut r = run(interp, &argv[1]);
     if let Err(e) = &r
         && let Code::Exit(_) = e.code
     {
         return r;
     }
-    let (code, value, opts) = outcome(interp, &r)?;
-    let error_code = match &r {
-        Err(e) if e.code == Code::Error => Some(e.error_code()),
-        _ => None,
+    let (code, error_code) = match &r {
+        Ok(_) => (0, None),
+        Err(e) if e.code == Code::Return => (2, None),
+        Err(e) => (e.code.as_int(), (e.code == Code::Error).then(|| e.error_code())),
     };
     let found = handlers.iter().position(|(m, _, _)| match m {
         Match::Code(c) => *c == code,
@@ -740,7 +804,13 @@ fn cmd_try(interp: &mut Interp, argv: &[Value]) -> TclResult {
             })
         }),
     });
+    if let Err(e) = &mut r {
+        name(e, unit || (found.is_some() && (!in_proc || trap)), "\"try\" body");
+    }
+    let (_, value, opts) = outcome(interp, &r)?;
     let mut result = r;
+    // The options of what a finally script interrupts.
+    let mut result_opts = opts.clone();
     if let Some(k) = found {
         let (_, vars, _) = &handlers[k];
         // A body of "-" falls through to the next handler's.
@@ -754,23 +824,51 @@ fn cmd_try(interp: &mut Interp, argv: &[Value]) -> TclResult {
             interp.set_var(v.as_str(), value)?;
         }
         if let Some(v) = vars.get(1) {
-            interp.set_var(v.as_str(), opts)?;
+            interp.set_var(v.as_str(), opts.clone())?;
         }
-        result = interp.eval_inline(&script).map_err(|mut e| {
-            if e.code == Code::Error && interp.level() == 0 {
-                let what = if matches!(handlers[k].0, Match::Code(_)) { "on" } else { "trap" };
-                e.trace.push_str(&format!(
-                    "\n    (\"try ... {what}\" handler line {})",
-                    e.script_line
-                ));
-            }
-            e
-        });
+        let unit = !compiled || !in_proc || interp.inline_is_unit(&script);
+        let what = if matches!(handlers[k].0, Match::Code(_)) { "on" } else { "trap" };
+        let what = format!("\"try ... {what}\" handler");
+        result = run(interp, &script);
+        if let Err(mut e) = result {
+            name(&mut e, unit, &what);
+            let (e, full) = during(interp, e, &opts);
+            result_opts = full;
+            result = Err(e);
+        } else {
+            result_opts = outcome(interp, &result)?.2;
+        }
     }
     if let Some(f) = finally {
-        interp.eval_inline(&f)?;
+        let unit = !compiled || interp.inline_is_unit(&f);
+        if let Err(mut e) = run(interp, &f) {
+            name(&mut e, unit, "\"try ... finally\" body");
+            return Err(during(interp, e, &result_opts).0);
+        }
     }
     result
+}
+
+/// An error raised by a `try` handler or finally script carries the
+/// options of the outcome it interrupted as `-during`; also the error's
+/// options dictionary as Tcl then has it (-during last).
+fn during(interp: &mut Interp, mut e: Exception, opts: &Value) -> (Exception, Value) {
+    if e.code != Code::Error {
+        return (e, Value::empty());
+    }
+    // Tcl sets the error's whole options dictionary, and -during, as its
+    // return options (which keep no -code or -level).
+    let Ok((_, _, full)) = outcome(interp, &Err(e.clone())) else { return (e, Value::empty()) };
+    let mut full = full.as_list().map(|l| l.to_vec()).unwrap_or_default();
+    put_opt(&mut full, "-during", opts.clone());
+    let mut given: Vec<Value> = Vec::new();
+    for kv in full.chunks(2) {
+        if kv.len() == 2 && !matches!(kv[0].as_str(), "-code" | "-level") {
+            given.extend([kv[0].clone(), kv[1].clone()]);
+        }
+    }
+    e.ext_mut().return_opts = given;
+    (e, Value::from_list(full))
 }
 
 /// `interp` for the one interpreter there is (the path `{}`): `alias`,
@@ -871,6 +969,7 @@ fn cmd_throw(_: &mut Interp, argv: &[Value]) -> TclResult {
     }
     let mut e = Exception::error(argv[2].as_str().to_string());
     e.error_code = Some(argv[1].clone());
+    e.ext_mut().return_opts = vec![Value::from("-errorcode"), argv[1].clone()];
     Err(e)
 }
 
@@ -882,8 +981,12 @@ fn cmd_error(_: &mut Interp, argv: &[Value]) -> TclResult {
         e.traced = true;
         e.logged = true;
     }
+    if argv.len() > 2 {
+        e.ext_mut().return_opts.extend([Value::from("-errorinfo"), argv[2].clone()]);
+    }
     if argv.len() > 3 {
         e.error_code = Some(argv[3].clone());
+        e.ext_mut().return_opts.extend([Value::from("-errorcode"), argv[3].clone()]);
     }
     Err(e)
 }
@@ -1230,7 +1333,15 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
             1 => interp.frame_info(&args[0]),
             _ => Err(usage("?number?")),
         },
-        "class" | "object" | "errorstack" => {
+        "errorstack" => match args.len() {
+            0 => Ok(interp.errorstack.clone()),
+            1 => Err(Exception::error(format!(
+                "could not find interpreter \"{}\"",
+                args[0].as_str()
+            ))),
+            _ => Err(usage("?interp?")),
+        },
+        "class" | "object" => {
             Err(Exception::error(format!("info {sub} is not supported by rayshell")))
         }
         "patchlevel" | "tclversion" | "nameofexecutable" => {
