@@ -1679,8 +1679,12 @@ impl Interp {
     /// The frame index for a Tcl level spec (`1`, `#0`), relative to now.
     pub(crate) fn resolve_level(&self, spec: &str) -> Result<usize, Exception> {
         let bad = || Exception::error(format!("bad level \"{spec}\""));
+        // Integers as Tcl reads them (`-0`, `0x1`, blanks around).
+        let int = |s: &str| {
+            super::number::parse_int(s).and_then(|n| usize::try_from(n).ok()).ok_or_else(bad)
+        };
         if let Some(abs) = spec.strip_prefix('#') {
-            let n: usize = abs.parse().map_err(|_| bad())?;
+            let n = int(abs)?;
             let mut f = self.cur;
             loop {
                 if self.frames[f].level == n {
@@ -1692,7 +1696,7 @@ impl Interp {
                 f = self.frames[f].caller;
             }
         }
-        let n: usize = spec.parse().map_err(|_| bad())?;
+        let n = int(spec)?;
         let mut f = self.cur;
         for _ in 0..n {
             if self.frames[f].level == 0 {
@@ -1746,7 +1750,10 @@ impl Interp {
             if Rc::ptr_eq(existing, &cell) {
                 return Ok(());
             }
-            if !matches!(*existing.borrow(), Var::Undefined) {
+            // A link may be moved to another variable; a variable stays.
+            if !matches!(*existing.borrow(), Var::Undefined)
+                && !self.frames[self.cur].links.iter().any(|l| &**l == local)
+            {
                 return Err(Exception::error(format!("variable \"{local}\" already exists")));
             }
         }

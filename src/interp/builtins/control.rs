@@ -991,6 +991,22 @@ fn cmd_error(_: &mut Interp, argv: &[Value]) -> TclResult {
     Err(e)
 }
 
+/// The frame `uplevel` or `upvar` names with its first word, and whether
+/// that word was a level (Tcl's TclObjGetFrame): an integer of at least 0,
+/// or `#` and one; another word starting with `#` or a digit is a bad
+/// level; any other is no level (one up).
+pub(crate) fn frame_arg(interp: &Interp, word: &str) -> Result<(usize, bool), Exception> {
+    let int = crate::interp::number::parse_int;
+    if int(word).is_some_and(|n| n >= 0) || word.starts_with('#') {
+        return Ok((interp.resolve_level(word)?, true));
+    }
+    if word.starts_with(|c: char| c.is_ascii_digit()) {
+        return Err(Exception::error(format!("bad level \"{word}\""))
+            .with_error_code(&format!("TCL LOOKUP LEVEL {word}")));
+    }
+    Ok((interp.resolve_level("1")?, false))
+}
+
 /// `concat` semantics: trim each argument and join with spaces.
 pub(crate) fn concat(args: &[Value]) -> TclResult {
     if args.len() == 1 {
@@ -1021,13 +1037,11 @@ pub(crate) fn with_body_line(mut e: Exception, what: &str) -> Exception {
 fn cmd_uplevel(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "?level? command ?arg ...?")?;
     let first = argv[1].as_str();
-    let looks_like_level =
-        first.starts_with('#') || (!first.is_empty() && first.bytes().all(|c| c.is_ascii_digit()));
-    let (frame, rest) = if looks_like_level && argv.len() > 2 {
-        (interp.resolve_level(first)?, &argv[2..])
-    } else {
-        (interp.resolve_level("1")?, &argv[1..])
-    };
+    let (frame, taken) = frame_arg(interp, first)?;
+    let rest = &argv[1 + taken as usize..];
+    if rest.is_empty() {
+        return Err(Exception::wrong_args("uplevel ?level? command ?arg ...?"));
+    }
     let script = if rest.len() == 1 { rest[0].clone() } else { concat(rest)? };
     interp
         .in_frame(frame, |i| i.eval_registered(&script))

@@ -69,9 +69,14 @@ fn create(interp: &mut Interp, ns: &str) {
     }
 }
 
-fn not_found(name: &str) -> Exception {
-    Exception::error(format!("namespace \"{name}\" not found"))
-        .with_error_code(&format!("TCL LOOKUP NAMESPACE {name}"))
+/// Tcl's wording: a relative name is not found in the current namespace.
+fn not_found(interp: &Interp, name: &str) -> Exception {
+    let msg = if name.starts_with("::") {
+        format!("namespace \"{name}\" not found")
+    } else {
+        format!("namespace \"{name}\" not found in \"::{}\"", interp.ns)
+    };
+    Exception::error(msg).with_error_code(&format!("TCL LOOKUP NAMESPACE {name}"))
 }
 
 /// Runs `f` with namespace `ns` current, in the global frame.
@@ -119,7 +124,7 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
             }
             let ns = absolute(interp, a[0].as_str());
             if !exists(interp, &ns) {
-                return Err(not_found(a[0].as_str()));
+                return Err(not_found(interp, a[0].as_str()));
             }
             // The extra words join the script as `concat` joins them (the
             // script stays a script: `cmd $x ;#` keeps its `;#`).
@@ -161,7 +166,7 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 None => interp.ns.to_string(),
             };
             if !exists(interp, &parent) {
-                return Err(not_found(a[0].as_str()));
+                return Err(not_found(interp, a[0].as_str()));
             }
             let prefix = if parent.is_empty() { String::new() } else { format!("{parent}::") };
             // A pattern is relative to the parent.
@@ -188,7 +193,7 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 None => interp.ns.to_string(),
             };
             if !exists(interp, &ns) {
-                return Err(not_found(a[0].as_str()));
+                return Err(not_found(interp, a[0].as_str()));
             }
             if ns.is_empty() {
                 return Ok(Value::empty());
@@ -263,7 +268,7 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
                     None => return Ok(Value::empty()),
                 };
                 if !exists(interp, &from) {
-                    return Err(not_found(&p[..p.rfind("::").unwrap_or(0)]));
+                    return Err(not_found(interp, &p[..p.rfind("::").unwrap_or(0)]));
                 }
                 let prefix = if from.is_empty() { String::new() } else { format!("{from}::") };
                 // Only what the namespace exports.
@@ -299,7 +304,7 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
             }
             let ns = absolute(interp, a[0].as_str());
             if !exists(interp, &ns) {
-                return Err(not_found(a[0].as_str()));
+                return Err(not_found(interp, a[0].as_str()));
             }
             for pair in a[1..].chunks(2) {
                 let other = if ns.is_empty() {
@@ -344,7 +349,7 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
             for item in list.as_list()?.iter() {
                 let ns = absolute(interp, item.as_str());
                 if !exists(interp, &ns) {
-                    return Err(not_found(item.as_str()));
+                    return Err(not_found(interp, item.as_str()));
                 }
                 path.push(ns);
             }

@@ -120,21 +120,21 @@ fn cmd_global(interp: &mut Interp, argv: &[Value]) -> TclResult {
 /// `variable`: with only the global namespace, a global variable, linked
 /// into the procedure that declares it, and set when a value is given.
 fn cmd_variable(interp: &mut Interp, argv: &[Value]) -> TclResult {
-    check_args(argv, 2, usize::MAX, "?name value...? name ?value?")?;
     for pair in argv[1..].chunks(2) {
         let n = pair[0].as_str();
         let local = n.rsplit("::").next().unwrap_or(n);
+        // The variable of the current namespace (never a global of the
+        // same name, which `set` would find from a namespace).
+        let full = match n.strip_prefix("::") {
+            Some(_) => n.to_string(),
+            None if interp.ns.is_empty() => format!("::{n}"),
+            None => format!("::{}::{n}", interp.ns),
+        };
         if interp.level() > 0 {
-            // The variable of the procedure's namespace.
-            let full = match n.strip_prefix("::") {
-                Some(_) => n.to_string(),
-                None if interp.ns.is_empty() => format!("::{n}"),
-                None => format!("::{}::{n}", interp.ns),
-            };
             interp.link_var(0, &full, local)?;
         }
         if let Some(v) = pair.get(1) {
-            interp.set_var(if interp.level() > 0 { local } else { n }, v.clone())?;
+            interp.set_var(if interp.level() > 0 { local } else { &full }, v.clone())?;
         }
     }
     Ok(Value::empty())
@@ -143,12 +143,8 @@ fn cmd_variable(interp: &mut Interp, argv: &[Value]) -> TclResult {
 fn cmd_upvar(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let usage = "?level? otherVar localVar ?otherVar localVar ...?";
     check_args(argv, 3, usize::MAX, usage)?;
-    let first = argv[1].as_str();
-    let (frame, rest) = if argv.len().is_multiple_of(2) {
-        (interp.resolve_level(first)?, &argv[2..])
-    } else {
-        (interp.resolve_level("1")?, &argv[1..])
-    };
+    let (frame, taken) = super::control::frame_arg(interp, argv[1].as_str())?;
+    let rest = &argv[1 + taken as usize..];
     if rest.len() % 2 != 0 || rest.is_empty() {
         return Err(Exception::wrong_args(&format!("upvar {usage}")));
     }
@@ -258,6 +254,12 @@ fn cmd_array(interp: &mut Interp, argv: &[Value]) -> TclResult {
             let items = args[0].as_list()?;
             if items.len() % 2 != 0 {
                 return Err(Exception::error("list must have an even number of elements"));
+            }
+            if crate::interp::eval::split_var_name(name).1.is_some() {
+                // An element cannot hold an array.
+                return Err(Exception::error(format!(
+                    "can't set \"{name}\": variable isn't array"
+                )));
             }
             let cell = interp.var_cell(name);
             if !interp.var_traces.is_empty() && !matches!(*cell.borrow(), Var::Scalar(_)) {
