@@ -145,7 +145,7 @@ fn cmd_upvar(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 3, usize::MAX, usage)?;
     let (frame, taken) = super::control::frame_arg(interp, argv[1].as_str())?;
     let rest = &argv[1 + taken as usize..];
-    if rest.len() % 2 != 0 || rest.is_empty() {
+    if !rest.len().is_multiple_of(2) || rest.is_empty() {
         return Err(Exception::wrong_args(&format!("upvar {usage}")));
     }
     for pair in rest.chunks(2) {
