@@ -421,6 +421,8 @@ impl Interp {
         interp.set_tcl_globals();
         interp.eval_str(super::builtins::PARRAY).expect("parray's definition runs");
         interp.set_help("parray", "arrayName ?pattern?", "print an array's elements");
+        interp.eval_str(super::builtins::UNKNOWN).expect("unknown's definition runs");
+        interp.set_help("unknown", "cmdName ?arg ...?", "called for a command that does not exist");
         interp
     }
 
@@ -1081,7 +1083,15 @@ impl Interp {
                 let mut words = Vec::with_capacity(argv.len() + 1);
                 words.push(Value::from("unknown"));
                 words.extend(argv.iter().cloned());
-                return self.invoke(&words);
+                return self.invoke(&words).map_err(|mut e| {
+                    // The command that failed is the one not found.
+                    if let Some(stack) = e.ext.as_mut().and_then(|x| x.errorstack.as_mut())
+                        && stack.len() == 2
+                    {
+                        stack[1] = inner_context(argv, &Exception::error(""));
+                    }
+                    e
+                });
             }
             None => {
                 return Err(Exception::error(format!(

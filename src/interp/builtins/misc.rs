@@ -520,6 +520,14 @@ fn cmd_tailcall(interp: &mut Interp, argv: &[Value]) -> TclResult {
 
 /// `parray`, a proc as in Tcl (whose library defines it in Tcl, so
 /// scripts may read `info body parray`, as tcltest does).
+/// Tcl's default `unknown` handler, as its library defines it for a
+/// script (rayshell auto-loads nothing and runs no programs for unknown
+/// commands): the error Tcl gives.
+pub(crate) const UNKNOWN: &str = r#"proc unknown args {
+    set cmd [lindex $args 0]
+    return -code error -errorcode [list TCL LOOKUP COMMAND $cmd] "invalid command name \"$cmd\""
+}"#;
+
 pub(crate) const PARRAY: &str = r#"proc parray {a {pattern *}} {
     upvar 1 $a array
     if {![array exists array]} {

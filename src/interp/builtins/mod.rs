@@ -35,7 +35,7 @@ pub(crate) use chan::Channels;
 pub(crate) use control::{check_if, with_body_line};
 pub(crate) use coro::Coroutines;
 pub(crate) use lists::append_elements;
-pub(crate) use misc::PARRAY;
+pub(crate) use misc::{PARRAY, UNKNOWN};
 pub use package::{Packages, TCL_PATCHLEVEL, TCL_VERSION};
 pub(crate) use trace::{CmdTraces, VarTraceTable};
 pub(crate) use vars::append_strings;
