@@ -26,10 +26,10 @@ use smallvec::SmallVec;
 
 use super::cmdframe::At;
 use super::error::{Code, Exception, TclResult};
-use super::eval::{CommandKind, Interp, Proc, Var, cond_truth, expr_result};
+use super::eval::{CommandKind, Interp, Proc, Slot, Var, cond_truth, expr_result};
 use super::expr::{self, BinOp, Expr, Func, Operand, UnOp};
 use super::number::Num;
-use super::parser::{Command, Part, Script, VarName, Word};
+use super::parser::{Part, Script, VarName, Word};
 use super::value::{Rep, Value};
 
 /// The commands compiled inline. Redefining any of them (in any
@@ -73,13 +73,18 @@ impl CompiledProc {
 pub(crate) struct Body {
     script: Rc<Script>,
     ops: Vec<Op>,
+    /// Per op: whether it may run commands (calls, substitutions), after
+    /// which the fast paths must be checked again.
+    runs_code: Vec<bool>,
     /// The `inline_epoch` it was compiled in.
     epoch: u64,
 }
 
-/// How a compiled body ended, other than by an error.
+/// How a compiled body ended, other than by an error. A normal end
+/// carries the body's result only when its runner asked for it (a loop
+/// body's is thrown away, so it is never made).
 pub(crate) enum Outcome {
-    Normal(Value),
+    Normal(Option<Value>),
     Return(Value),
     Break,
     Continue,
@@ -103,11 +108,12 @@ enum Op {
     Call {
         words: Vec<Word>,
         cache: RefCell<Option<(u64, CommandKind)>>,
-        /// Its index among its body's commands (`info frame`).
-        at: u32,
     },
     Get(Local),
     Set(Local, Word),
+    /// `set x [expr {...}]`: the number straight into the slot; the
+    /// substituted script is kept for errorInfo.
+    SetExpr(Local, CExpr, Rc<Script>),
     Incr(Local, By),
     Append(Local, Vec<Word>),
     Lappend(Local, Vec<Word>),
@@ -129,6 +135,72 @@ enum Op {
     Continue,
 }
 
+impl Op {
+    /// Whether running it may run commands, which could redefine a
+    /// builtin or set a trace.
+    fn runs_code(&self) -> bool {
+        match self {
+            Op::Call { .. } => true,
+            Op::Get(_) | Op::Break | Op::Continue | Op::Return(None) => false,
+            Op::Set(_, w) | Op::Return(Some(w)) => word_runs_code(w),
+            Op::SetExpr(_, e, _) | Op::Expr(e) => e.runs_code(),
+            Op::Incr(_, By::Word(w)) => word_runs_code(w),
+            Op::Incr(..) => false,
+            Op::Append(_, ws) | Op::Lappend(_, ws) => ws.iter().any(word_runs_code),
+            Op::If { arms, otherwise } => {
+                arms.iter().any(|(e, b)| e.runs_code() || b.runs_any())
+                    || otherwise.as_ref().is_some_and(Body::runs_any)
+            }
+            Op::For { start, test, next, body } => {
+                start.as_ref().is_some_and(Body::runs_any)
+                    || test.runs_code()
+                    || next.as_ref().is_some_and(Body::runs_any)
+                    || body.runs_any()
+            }
+            Op::Foreach(_, w, b) => word_runs_code(w) || b.runs_any(),
+        }
+    }
+}
+
+impl Body {
+    fn runs_any(&self) -> bool {
+        self.script.error.is_some() || self.runs_code.iter().any(|&r| r)
+    }
+}
+
+impl CExpr {
+    fn runs_code(&self) -> bool {
+        match self {
+            CExpr::Int(_) | CExpr::Dbl(_) | CExpr::Lit(_) | CExpr::Local(..) => false,
+            CExpr::CmpLI(..) => false,
+            CExpr::Word(w) => word_runs_code(w),
+            CExpr::Unary(_, x) => x.runs_code(),
+            CExpr::Binary(_, a, b) | CExpr::And(a, b) | CExpr::Or(a, b) => {
+                a.runs_code() || b.runs_code()
+            }
+            CExpr::Ternary(c, a, b) => c.runs_code() || a.runs_code() || b.runs_code(),
+            // A math function may be a proc (`tcl::mathfunc::f`).
+            CExpr::Call(..) | CExpr::Custom(..) => true,
+        }
+    }
+}
+
+/// Whether evaluating a word may run commands.
+fn word_runs_code(w: &Word) -> bool {
+    match w {
+        Word::Lit(_) | Word::Local(..) => false,
+        Word::Var(VarName::Scalar(_)) => false,
+        Word::Var(VarName::Elem(_, i)) => word_runs_code(i),
+        Word::Cmd(_) | Word::Compiled(_) => true,
+        Word::Concat(parts) => parts.iter().any(|p| match p {
+            Part::Lit(_) | Part::Local(..) | Part::Var(VarName::Scalar(_)) => false,
+            Part::Var(VarName::Elem(_, i)) => word_runs_code(i),
+            Part::Cmd(_) | Part::Compiled(_) => true,
+        }),
+        Word::Expand(w) => word_runs_code(w),
+    }
+}
+
 /// `incr`'s amount.
 enum By {
     One,
@@ -140,7 +212,11 @@ enum By {
 /// A compiled expression: `expr`'s tree with locals read by slot, as
 /// plain numbers when they hold one.
 enum CExpr {
+    Int(i64),
+    Dbl(f64),
     Lit(Operand),
+    /// A local compared with an integer (`$i < 1000`): the loop test.
+    CmpLI(BinOp, u32, Rc<str>, i64),
     Local(u32, Rc<str>),
     Word(Word),
     Unary(UnOp, Box<CExpr>),
@@ -188,10 +264,10 @@ impl Compiler<'_> {
 
     fn body(&mut self, script: Rc<Script>) -> Body {
         self.depth += 1;
-        let ops =
-            script.cmds.iter().enumerate().map(|(i, c)| self.command(&c.words, i as u32)).collect();
+        let ops: Vec<Op> = script.cmds.iter().map(|c| self.command(&c.words)).collect();
         self.depth -= 1;
-        Body { script, ops, epoch: self.interp.inline_epoch }
+        let runs_code = ops.iter().map(Op::runs_code).collect();
+        Body { script, ops, runs_code, epoch: self.interp.inline_epoch }
     }
 
     /// A literal word's script, compiled, when nesting allows.
@@ -215,13 +291,25 @@ impl Compiler<'_> {
     fn expr_tree(&mut self, e: &Expr) -> CExpr {
         let b = |c: &mut Self, x: &Expr| Box::new(c.expr_tree(x));
         match e {
+            Expr::Lit(Operand::Int(i)) => CExpr::Int(*i),
+            Expr::Lit(Operand::Dbl(d)) => CExpr::Dbl(*d),
             Expr::Lit(o) => CExpr::Lit(o.clone()),
             Expr::Word(w) => match self.word(w) {
                 Word::Local(i, n) => CExpr::Local(i, n),
                 w => CExpr::Word(w),
             },
             Expr::Unary(op, x) => CExpr::Unary(*op, b(self, x)),
-            Expr::Binary(op, x, y) => CExpr::Binary(*op, b(self, x), b(self, y)),
+            Expr::Binary(op, x, y) => {
+                let (x, y) = (self.expr_tree(x), self.expr_tree(y));
+                match (op, x, y) {
+                    (
+                        BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Eq | BinOp::Ne,
+                        CExpr::Local(i, n),
+                        CExpr::Int(k),
+                    ) => CExpr::CmpLI(*op, i, n, k),
+                    (op, x, y) => CExpr::Binary(*op, Box::new(x), Box::new(y)),
+                }
+            }
             Expr::And(x, y) => CExpr::And(b(self, x), b(self, y)),
             Expr::Or(x, y) => CExpr::Or(b(self, x), b(self, y)),
             Expr::Ternary(c, x, y) => CExpr::Ternary(b(self, c), b(self, x), b(self, y)),
@@ -280,9 +368,9 @@ impl Compiler<'_> {
         }
     }
 
-    fn call(&mut self, words: &[Word], at: u32) -> Op {
+    fn call(&mut self, words: &[Word]) -> Op {
         let words = words.iter().map(|w| self.word(w)).collect();
-        Op::Call { words, cache: RefCell::new(None), at }
+        Op::Call { words, cache: RefCell::new(None) }
     }
 
     /// Whether `name` here means the builtin of that name.
@@ -290,16 +378,16 @@ impl Compiler<'_> {
         self.interp.is_original_builtin(name)
     }
 
-    fn command(&mut self, words: &[Word], at: u32) -> Op {
-        let Some(Word::Lit(first)) = words.first() else { return self.call(words, at) };
+    fn command(&mut self, words: &[Word]) -> Op {
+        let Some(Word::Lit(first)) = words.first() else { return self.call(words) };
         let name = first.as_str();
         if !INLINE_OPS.contains(&name)
             || words.iter().any(|w| matches!(w, Word::Expand(_)))
             || !self.is_builtin(name)
         {
-            return self.call(words, at);
+            return self.call(words);
         }
-        self.inline(name, words).unwrap_or_else(|| self.call(words, at))
+        self.inline(name, words).unwrap_or_else(|| self.call(words))
     }
 
     /// A command compiled inline, when its words have the shape that
@@ -309,6 +397,9 @@ impl Compiler<'_> {
             ("set", 2) => Op::Get(self.local_word(&w[1])?),
             ("set", 3) => {
                 let slot = self.local_word(&w[1])?;
+                if let Some((e, script)) = self.expr_subst(&w[2]) {
+                    return Some(Op::SetExpr(slot, e, script));
+                }
                 Op::Set(slot, self.word(&w[2]))
             }
             ("incr", 2 | 3) => {
@@ -360,6 +451,21 @@ impl Compiler<'_> {
             ("continue", 1) => Op::Continue,
             _ => return None,
         })
+    }
+
+    /// A word that is exactly `[expr {...}]` (the builtin, a literal
+    /// expression): the expression compiled, and the script for errors.
+    fn expr_subst(&mut self, w: &Word) -> Option<(CExpr, Rc<Script>)> {
+        let Word::Cmd(s) = w else { return None };
+        let [cmd] = &s.cmds[..] else { return None };
+        if s.error.is_some() || cmd.words.len() != 2 {
+            return None;
+        }
+        match &cmd.words[0] {
+            Word::Lit(v) if v.as_str() == "expr" && self.is_builtin("expr") => {}
+            _ => return None,
+        }
+        Some((self.expr(&cmd.words[1])?, s.clone()))
     }
 
     /// `if` with every word literal and a well-formed shape.
@@ -423,6 +529,17 @@ fn operand_of(v: Value) -> Operand {
     operand_ref(&v)
 }
 
+/// An expression's result for a slot (`expr_result`'s rules: a NaN is an
+/// error), numbers unboxed.
+#[inline]
+fn slot_of_result(op: Operand) -> Result<Slot, Exception> {
+    Ok(match op {
+        Operand::Int(i) => Slot::Int(i),
+        Operand::Dbl(d) if !d.is_nan() => Slot::Dbl(d),
+        op => Slot::Val(expr_result(op)?),
+    })
+}
+
 impl Interp {
     /// Whether a compiled body may take its fast paths now: nothing the
     /// compiler relied on has been redefined, and no trace wants to see
@@ -432,44 +549,62 @@ impl Interp {
         self.inline_epoch == epoch && self.var_traces.is_empty() && self.cmd_traces.is_empty()
     }
 
-    /// Runs a compiled body inline (errors logged as in `eval_script`).
-    #[inline]
-    pub(crate) fn run_body(&mut self, b: &Body) -> Run<Outcome> {
+    /// Runs a compiled body inline (errors logged as in `eval_script`);
+    /// `want`: whether its result is used (else `Normal(None)`).
+    #[inline(always)]
+    pub(crate) fn run_body(&mut self, b: &Body, want: bool) -> Run<Outcome> {
+        if b.ops.is_empty() && b.script.error.is_none() {
+            return Ok(Outcome::Normal(want.then(Value::empty)));
+        }
+        self.run_body_some(b, want)
+    }
+
+    #[inline(never)]
+    fn run_body_some(&mut self, b: &Body, want: bool) -> Run<Outcome> {
         // A body of one command (most loop bodies and `[...]`): no loop.
-        if let ([op], [cmd], None) = (&b.ops[..], &b.script.cmds[..], &b.script.error)
+        if let ([op], None) = (&b.ops[..], &b.script.error)
             && self.fast(b.epoch)
         {
-            return self.run_one(op, cmd, &b.script);
+            return self.run_op(op, &b.script, 0, want).map_err(|e| self.log_op(e, b, 0));
         }
-        self.run_body_all(b)
+        self.run_body_all(b, want)
     }
 
-    fn run_one(&mut self, op: &Op, cmd: &Command, s: &Rc<Script>) -> Run<Outcome> {
-        self.run_op(op, s).map_err(|mut e| {
-            self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
-            e
-        })
+    /// An error leaving command `i` of a body: its trace.
+    #[cold]
+    fn log_op(&self, mut e: Box<Exception>, b: &Body, i: usize) -> Box<Exception> {
+        let s = &b.script;
+        let cmd = &s.cmds[i];
+        self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
+        e
     }
 
-    fn run_body_all(&mut self, b: &Body) -> Run<Outcome> {
+    fn run_body_all(&mut self, b: &Body, want: bool) -> Run<Outcome> {
+        let last = b.ops.len().wrapping_sub(1);
         let mut result = None;
-        for (i, (op, cmd)) in b.ops.iter().zip(&b.script.cmds).enumerate() {
-            // Drop the previous result first so `lappend` can grow in place.
-            drop(result.take());
-            let r = if self.fast(b.epoch) {
-                self.run_op(op, &b.script)
+        // Checked again only after an op that may have run commands.
+        let mut fast = self.fast(b.epoch);
+        for (i, op) in b.ops.iter().enumerate() {
+            let want_this = want && i == last;
+            let r = if fast {
+                let r = self.run_op(op, &b.script, i as u32, want_this);
+                if b.runs_code[i] {
+                    fast = self.fast(b.epoch);
+                }
+                r
             } else {
                 let at = || At::Cmd(b.script.clone(), i as u32);
-                self.eval_command(cmd, at).map(Outcome::Normal).map_err(Box::new)
+                let cmd = &b.script.cmds[i];
+                self.eval_command(cmd, at).map(|v| Outcome::Normal(Some(v))).map_err(Box::new)
             };
             match r {
-                Ok(Outcome::Normal(v)) => result = Some(v),
-                Ok(other) => return Ok(other),
-                Err(mut e) => {
-                    let s = &b.script;
-                    self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
-                    return Err(e);
+                Ok(Outcome::Normal(v)) => {
+                    if want_this {
+                        result = v;
+                    }
                 }
+                Ok(other) => return Ok(other),
+                Err(e) => return Err(self.log_op(e, b, i)),
             }
         }
         if let Some(pe) = &b.script.error {
@@ -479,27 +614,29 @@ impl Interp {
             self.add_trace(&mut e, text, pe.line, s.first_line, &s.file, false);
             return Err(Box::new(e));
         }
-        Ok(Outcome::Normal(result.unwrap_or_else(Value::empty)))
+        if want && result.is_none() {
+            result = Some(Value::empty());
+        }
+        Ok(Outcome::Normal(result))
     }
 
     /// A compiled `[...]`: its `return`, `break` or `continue` leave as
     /// the exceptions the uncompiled script would raise.
     pub(crate) fn run_nested(&mut self, b: &Body) -> TclResult {
         // `[expr {...}]`, the most common substitution, straight through.
-        if let ([Op::Expr(e)], [cmd], None) = (&b.ops[..], &b.script.cmds[..], &b.script.error)
+        if let ([Op::Expr(e)], None) = (&b.ops[..], &b.script.error)
             && self.fast(b.epoch)
         {
-            return self.ceval(e).and_then(|o| Ok(expr_result(o)?)).map_err(|mut e| {
-                let s = &b.script;
-                self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
-                *e
-            });
+            return self
+                .ceval(e)
+                .and_then(|o| Ok(expr_result(o)?))
+                .map_err(|e| *self.log_op(e, b, 0));
         }
         self.enter()?;
-        let r = self.run_body(b);
+        let r = self.run_body(b, true);
         self.leave();
         match r.map_err(|e| *e)? {
-            Outcome::Normal(v) => Ok(v),
+            Outcome::Normal(v) => Ok(v.unwrap_or_default()),
             Outcome::Return(v) => {
                 // What `return v` raises (`cmd_return`): one level up.
                 let mut e = Exception::flow(Code::Return, v);
@@ -514,71 +651,87 @@ impl Interp {
     /// One command. Inline ops are not a nesting level and do not
     /// recurse beyond the compiled nesting (`MAX_NESTING`), so they skip
     /// `enter`; loops `poll` for Ctrl-C and the command budget each turn.
+    /// The caller checked `fast`: no trace exists as the op starts (one
+    /// that substitutes a command checks again before it touches a slot).
     #[inline(always)]
-    fn run_op(&mut self, op: &Op, script: &Rc<Script>) -> Run<Outcome> {
+    fn run_op(&mut self, op: &Op, script: &Rc<Script>, at: u32, want: bool) -> Run<Outcome> {
         match op {
-            Op::Call { words, cache, at } => {
-                Ok(Outcome::Normal(self.run_call(words, cache, script, *at)?))
-            }
             Op::Incr((i, name), by) => {
                 let by = match by {
-                    By::One => Num::Int(1),
-                    By::Const(k) => Num::Int(*k),
-                    By::Word(w) => self.eval_word(w)?.as_integer()?,
+                    By::One => 1,
+                    By::Const(k) => *k,
+                    By::Word(w) => match self.eval_word(w)?.as_integer()? {
+                        Num::Int(k) => k,
+                        big => return Ok(Outcome::Normal(Some(self.incr_var(name, big)?))),
+                    },
                 };
-                Ok(Outcome::Normal(self.incr_local(*i, name, by)?))
+                self.incr_local(*i, name, by, want)
+            }
+            Op::SetExpr((i, name), e, s) => {
+                let r = self.ceval(e).and_then(|o| Ok(slot_of_result(o)?)).map_err(|mut e| {
+                    let cmd = &s.cmds[0];
+                    self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
+                    e
+                })?;
+                self.store_local(*i, name, r, want)
             }
             Op::Set((i, name), w) => {
                 let v = self.eval_word(w)?;
-                Ok(Outcome::Normal(self.set_local(*i, name, v)?))
+                let v = self.set_local(*i, name, v)?;
+                Ok(Outcome::Normal(want.then_some(v)))
+            }
+            Op::Call { words, cache } => {
+                Ok(Outcome::Normal(Some(self.run_call(words, cache, script, at)?)))
             }
             Op::Append(..) | Op::Lappend(..) => {
                 let mark = crate::mem::mark();
-                let r = self.run_inline(op);
+                let r = self.run_inline(op, want);
                 // The memory budget, as `invoke` checks it.
                 if crate::mem::grew_past(mark) || super::value::has_pending() {
                     super::eval::after_growth(Ok(Value::empty()))?;
                 }
                 r
             }
-            _ => self.run_inline(op),
+            _ => self.run_inline(op, want),
         }
     }
 
-    fn run_inline(&mut self, op: &Op) -> Run<Outcome> {
-        let normal = Outcome::Normal;
+    fn run_inline(&mut self, op: &Op, want: bool) -> Run<Outcome> {
         Ok(match op {
-            Op::Call { .. } | Op::Set(..) | Op::Incr(..) => unreachable!("run_op runs these"),
-            Op::Get((i, name)) => normal(self.read_local(*i, name)?),
+            Op::Call { .. } | Op::Set(..) | Op::SetExpr(..) | Op::Incr(..) => {
+                unreachable!("run_op runs these")
+            }
+            Op::Get((i, name)) => Outcome::Normal(Some(self.read_local(*i, name)?)),
             Op::Append((i, name), words) | Op::Lappend((i, name), words) => {
                 let change = match op {
                     Op::Append(..) => super::builtins::append_strings,
                     _ => super::builtins::append_elements,
                 };
                 let vals = self.eval_words(words)?;
-                normal(self.update_local(*i, name, &mut |v| change(v, &vals))?)
+                let v = self.update_local(*i, name, &mut |v| change(v, &vals))?;
+                Outcome::Normal(want.then_some(v))
             }
-            Op::Expr(e) => normal(expr_result(self.ceval(e)?)?),
+            Op::Expr(e) => Outcome::Normal(Some(expr_result(self.ceval(e)?)?)),
             Op::If { arms, otherwise } => {
                 for (test, body) in arms {
-                    if cond_truth(self.ceval(test)?)? {
-                        return self.run_body(body);
+                    if self.ctest(test)? {
+                        return self.run_body(body, want);
                     }
                 }
                 match otherwise {
-                    Some(body) => return self.run_body(body),
-                    None => normal(Value::empty()),
+                    Some(body) => return self.run_body(body, want),
+                    None => Outcome::Normal(want.then(Value::empty)),
                 }
             }
             Op::For { start, test, next, body } => {
                 if let Some(start) = start {
-                    match self.run_body(start)? {
+                    match self.run_body(start, false)? {
                         Outcome::Normal(_) => {}
                         // What `for` does with the code of its start script.
                         out => return Ok(out),
                     }
                 }
-                while cond_truth(self.ceval(test)?)? {
+                while self.ctest(test)? {
                     self.poll()?;
                     match self.run_loop_body(body)? {
                         Step::Go => {}
@@ -587,14 +740,14 @@ impl Interp {
                     }
                     // `break` in the next clause ends the loop, as in Tcl.
                     if let Some(next) = next {
-                        match self.run_body(next)? {
+                        match self.run_body(next, false)? {
                             Outcome::Normal(_) => {}
                             Outcome::Break => break,
                             out => return Ok(out),
                         }
                     }
                 }
-                normal(Value::empty())
+                Outcome::Normal(want.then(Value::empty))
             }
             Op::Foreach((i, name), list, body) => {
                 let items = self.eval_word(list)?.as_list()?;
@@ -607,7 +760,7 @@ impl Interp {
                         Step::Out(out) => return Ok(out),
                     }
                 }
-                normal(Value::empty())
+                Outcome::Normal(want.then(Value::empty))
             }
             Op::Return(w) => Outcome::Return(match w {
                 Some(w) => self.eval_word(w)?,
@@ -619,9 +772,9 @@ impl Interp {
     }
 
     /// A loop's body, and what the loop does next.
-    #[inline]
+    #[inline(always)]
     fn run_loop_body(&mut self, body: &Body) -> Run<Step> {
-        Ok(match self.run_body(body) {
+        Ok(match self.run_body(body, false) {
             Ok(Outcome::Normal(_) | Outcome::Continue) => Step::Go,
             Ok(Outcome::Break) => Step::Stop,
             Ok(out @ Outcome::Return(_)) => Step::Out(out),
@@ -681,13 +834,45 @@ impl Interp {
         self.invoke_cmd(cmd, &argv)
     }
 
+    /// A condition's truth: a comparison of two integers without making
+    /// a result, the rest through `ctest_tree`.
+    #[inline(always)]
+    fn ctest(&mut self, e: &CExpr) -> Run<bool> {
+        if let CExpr::CmpLI(op, i, _, k) = e
+            && let Some(x) = self.local_int(*i)
+        {
+            return Ok(compare(*op, x, *k));
+        }
+        self.ctest_tree(e)
+    }
+
+    #[inline(never)]
+    fn ctest_tree(&mut self, e: &CExpr) -> Run<bool> {
+        if let CExpr::Binary(op, a, b) = e {
+            let x = self.ceval(a)?;
+            let y = self.ceval(b)?;
+            if let (Operand::Int(p), Operand::Int(q)) = (&x, &y) {
+                let (p, q) = (*p, *q);
+                if let BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Eq | BinOp::Ne = op {
+                    return Ok(compare(*op, p, q));
+                }
+                if let Some(r) = expr::binary_small(*op, p, q) {
+                    return Ok(cond_truth(r)?);
+                }
+            }
+            return Ok(cond_truth(expr::binary(*op, x, y)?)?);
+        }
+        Ok(cond_truth(self.ceval(e)?)?)
+    }
+
     /// Evaluates a compiled expression (`expr::eval`'s rules, with the
     /// 64-bit integer operators inline): literals and locals here, the
     /// rest in `ceval_tree` (so the common leaves cost no call).
     #[inline(always)]
     fn ceval(&mut self, e: &CExpr) -> Run<Operand> {
         match e {
-            CExpr::Lit(o) => Ok(o.clone()),
+            CExpr::Int(i) => Ok(Operand::Int(*i)),
+            CExpr::Dbl(d) => Ok(Operand::Dbl(*d)),
             CExpr::Local(i, name) => Ok(self.local_operand(*i, name)?),
             _ => self.ceval_tree(e),
         }
@@ -695,6 +880,15 @@ impl Interp {
 
     fn ceval_tree(&mut self, e: &CExpr) -> Run<Operand> {
         Ok(match e {
+            CExpr::CmpLI(op, i, name, k) => match self.local_int(*i) {
+                Some(x) => Operand::Int(compare(*op, x, *k) as i64),
+                None => {
+                    let x = self.local_operand(*i, name)?;
+                    expr::binary(*op, x, Operand::Int(*k))?
+                }
+            },
+            CExpr::Int(i) => Operand::Int(*i),
+            CExpr::Dbl(d) => Operand::Dbl(*d),
             CExpr::Lit(o) => o.clone(),
             CExpr::Local(i, name) => self.local_operand(*i, name)?,
             CExpr::Word(w) => operand_of(self.eval_word(w)?),
@@ -705,10 +899,30 @@ impl Interp {
             CExpr::Binary(op, a, b) => {
                 let x = self.ceval(a)?;
                 let y = self.ceval(b)?;
-                if let (Operand::Int(p), Operand::Int(q)) = (&x, &y)
-                    && let Some(r) = expr::binary_small(*op, *p, *q)
-                {
-                    return Ok(r);
+                match (&x, &y) {
+                    (Operand::Int(p), Operand::Int(q)) => {
+                        if let Some(r) = expr::binary_small(*op, *p, *q) {
+                            return Ok(r);
+                        }
+                    }
+                    // Doubles: the arithmetic Tcl does, without `Num`s.
+                    (Operand::Dbl(p), Operand::Dbl(q)) => {
+                        if let Some(r) = dbl_binary(*op, *p, *q) {
+                            return Ok(r);
+                        }
+                    }
+                    // An integer a double holds exactly.
+                    (Operand::Dbl(p), Operand::Int(q)) if q.unsigned_abs() <= 1 << 53 => {
+                        if let Some(r) = dbl_binary(*op, *p, *q as f64) {
+                            return Ok(r);
+                        }
+                    }
+                    (Operand::Int(p), Operand::Dbl(q)) if p.unsigned_abs() <= 1 << 53 => {
+                        if let Some(r) = dbl_binary(*op, *p as f64, *q) {
+                            return Ok(r);
+                        }
+                    }
+                    _ => {}
                 }
                 expr::binary(*op, x, y)?
             }
@@ -745,27 +959,64 @@ impl Interp {
         })
     }
 
+    /// A local's integer, when it plainly holds one (no trace).
+    #[inline(always)]
+    fn local_int(&self, i: u32) -> Option<i64> {
+        if !self.var_traces.is_empty() {
+            return None;
+        }
+        match &self.frames[self.cur].slots[i as usize] {
+            Slot::Int(n) => Some(*n),
+            Slot::Val(v) => v.cached_int(),
+            _ => None,
+        }
+    }
+
     /// A local as an operand: a plain number when it holds one.
-    #[inline]
+    #[inline(always)]
     fn local_operand(&mut self, i: u32, name: &str) -> Result<Operand, Exception> {
-        if self.var_traces.is_empty()
-            && let Some(Some(cell)) = self.frames[self.cur].slots.get(i as usize)
-            && let Var::Scalar(v) = &*cell.borrow()
-        {
-            return Ok(operand_ref(v));
+        if self.var_traces.is_empty() {
+            match &self.frames[self.cur].slots[i as usize] {
+                Slot::Int(n) => return Ok(Operand::Int(*n)),
+                Slot::Dbl(d) => return Ok(Operand::Dbl(*d)),
+                Slot::Val(v) => return Ok(operand_ref(v)),
+                Slot::Cell(c) => {
+                    if let Var::Scalar(v) = &*c.borrow() {
+                        return Ok(operand_ref(v));
+                    }
+                }
+                Slot::Empty => {}
+            }
         }
         Ok(Operand::Str(self.get_var(name)?))
     }
 
-    /// Reads local slot `i` (by name when it is not a plain scalar, for
-    /// the exact error or an element link).
+    /// Reads local slot `i` as a value (by name when it is not a plain
+    /// scalar, for the exact error or an element link). A number becomes
+    /// the value the slot holds from then on, so later reads share it.
     #[inline]
     pub(crate) fn read_local(&mut self, i: u32, name: &str) -> TclResult {
-        if self.var_traces.is_empty()
-            && let Some(Some(cell)) = self.frames[self.cur].slots.get(i as usize)
-            && let Var::Scalar(v) = &*cell.borrow()
-        {
-            return Ok(v.clone());
+        if self.var_traces.is_empty() {
+            let slot = &mut self.frames[self.cur].slots[i as usize];
+            match slot {
+                Slot::Val(v) => return Ok(v.clone()),
+                Slot::Int(n) => {
+                    let v = Value::from_int(*n);
+                    *slot = Slot::Val(v.clone());
+                    return Ok(v);
+                }
+                Slot::Dbl(d) => {
+                    let v = Value::from_f64(*d);
+                    *slot = Slot::Val(v.clone());
+                    return Ok(v);
+                }
+                Slot::Cell(c) => {
+                    if let Var::Scalar(v) = &*c.borrow() {
+                        return Ok(v.clone());
+                    }
+                }
+                Slot::Empty => {}
+            }
         }
         self.get_var(name)
     }
@@ -774,38 +1025,85 @@ impl Interp {
     #[inline]
     fn set_local(&mut self, i: u32, name: &str, v: Value) -> TclResult {
         if self.var_traces.is_empty() {
-            match self.frames[self.cur].slots.get_mut(i as usize) {
-                Some(slot @ None) => {
-                    *slot = Some(Rc::new(RefCell::new(Var::Scalar(v.clone()))));
-                    return Ok(v);
-                }
-                Some(Some(cell)) => {
-                    let mut var = cell.borrow_mut();
+            let slot = &mut self.frames[self.cur].slots[i as usize];
+            match slot {
+                Slot::Cell(c) => {
+                    let mut var = c.borrow_mut();
                     if matches!(*var, Var::Scalar(_) | Var::Undefined) {
                         *var = Var::Scalar(v.clone());
                         return Ok(v);
                     }
                 }
-                None => {}
+                _ => {
+                    *slot = Slot::Val(v.clone());
+                    return Ok(v);
+                }
             }
         }
         self.set_var(name, v)
     }
 
-    fn incr_local(&mut self, i: u32, name: &str, by: super::number::Num) -> TclResult {
-        if let super::number::Num::Int(by) = by
-            && self.var_traces.is_empty()
-            && let Some(Some(cell)) = self.frames[self.cur].slots.get(i as usize)
-            && let Var::Scalar(v) = &mut *cell.borrow_mut()
-            && let Some(x) = v.cached_int()
+    /// Stores an expression's result in local slot `i`.
+    #[inline]
+    fn store_local(&mut self, i: u32, name: &str, r: Slot, want: bool) -> Run<Outcome> {
+        if self.var_traces.is_empty() {
+            let slot = &mut self.frames[self.cur].slots[i as usize];
+            if !matches!(slot, Slot::Cell(_)) {
+                let v = want.then(|| match &r {
+                    Slot::Int(n) => Value::from_int(*n),
+                    Slot::Dbl(d) => Value::from_f64(*d),
+                    Slot::Val(v) => v.clone(),
+                    _ => unreachable!("a result is a number or a value"),
+                });
+                *slot = r;
+                return Ok(Outcome::Normal(v));
+            }
+        }
+        let v = match r {
+            Slot::Int(n) => Value::from_int(n),
+            Slot::Dbl(d) => Value::from_f64(d),
+            Slot::Val(v) => v,
+            _ => unreachable!("a result is a number or a value"),
+        };
+        let v = self.set_local(i, name, v)?;
+        Ok(Outcome::Normal(want.then_some(v)))
+    }
+
+    #[inline(always)]
+    fn incr_local(&mut self, i: u32, name: &str, by: i64, want: bool) -> Run<Outcome> {
+        if self.var_traces.is_empty()
+            && let Slot::Int(x) = &mut self.frames[self.cur].slots[i as usize]
             && let Some(sum) = x.checked_add(by)
         {
-            if !v.set_int_in_place(sum) {
-                *v = Value::from_int(sum);
+            *x = sum;
+            if want {
+                return Ok(Outcome::Normal(Some(Value::from_int(sum))));
             }
-            return Ok(v.clone());
+            return Ok(Outcome::Normal(None));
         }
-        self.incr_var(name, by)
+        self.incr_local_slow(i, name, by, want)
+    }
+
+    #[inline(never)]
+    fn incr_local_slow(&mut self, i: u32, name: &str, by: i64, want: bool) -> Run<Outcome> {
+        if self.var_traces.is_empty() {
+            let slot = &mut self.frames[self.cur].slots[i as usize];
+            let x = match slot {
+                // A string is read as an integer once (the value keeps it).
+                Slot::Val(v) => match v.as_integer() {
+                    Ok(Num::Int(x)) => Some(x),
+                    _ => None,
+                },
+                _ => None,
+            };
+            if let Some(x) = x
+                && let Some(sum) = x.checked_add(by)
+            {
+                *slot = Slot::Int(sum);
+                return Ok(Outcome::Normal(want.then(|| Value::from_int(sum))));
+            }
+        }
+        Ok(Outcome::Normal(Some(self.incr_var(name, Num::Int(by))?)))
     }
 
     /// `append`/`lappend` on local slot `i`: `f` changes its value in
@@ -816,13 +1114,63 @@ impl Interp {
         name: &str,
         f: &mut dyn FnMut(&mut Value) -> Result<(), Exception>,
     ) -> TclResult {
-        if self.var_traces.is_empty()
-            && let Some(Some(cell)) = self.frames[self.cur].slots.get(i as usize)
-            && let Var::Scalar(v) = &mut *cell.borrow_mut()
-        {
-            f(v)?;
-            return Ok(v.clone());
+        if self.var_traces.is_empty() {
+            let slot = &mut self.frames[self.cur].slots[i as usize];
+            match slot {
+                Slot::Int(n) => *slot = Slot::Val(Value::from_int(*n)),
+                Slot::Dbl(d) => *slot = Slot::Val(Value::from_f64(*d)),
+                _ => {}
+            }
+            match slot {
+                Slot::Val(v) => {
+                    f(v)?;
+                    return Ok(v.clone());
+                }
+                Slot::Cell(c) => {
+                    if let Var::Scalar(v) = &mut *c.borrow_mut() {
+                        f(v)?;
+                        return Ok(v.clone());
+                    }
+                }
+                _ => {}
+            }
         }
         self.update_var(name, Some(Value::empty()), f)
     }
+}
+
+/// An integer comparison's truth.
+#[inline(always)]
+fn compare(op: BinOp, x: i64, y: i64) -> bool {
+    match op {
+        BinOp::Lt => x < y,
+        BinOp::Le => x <= y,
+        BinOp::Gt => x > y,
+        BinOp::Ge => x >= y,
+        BinOp::Eq => x == y,
+        _ => x != y,
+    }
+}
+
+/// Tcl's double arithmetic and comparisons, without `Num`s: `None` for
+/// what needs more (division by zero, `**`, a NaN or infinite result).
+#[inline]
+fn dbl_binary(op: BinOp, x: f64, y: f64) -> Option<Operand> {
+    if x.is_nan() || y.is_nan() {
+        return None;
+    }
+    let r = match op {
+        BinOp::Add => x + y,
+        BinOp::Sub => x - y,
+        BinOp::Mul => x * y,
+        BinOp::Div if y != 0.0 => x / y,
+        BinOp::Lt => return Some(Operand::Int((x < y) as i64)),
+        BinOp::Gt => return Some(Operand::Int((x > y) as i64)),
+        BinOp::Le => return Some(Operand::Int((x <= y) as i64)),
+        BinOp::Ge => return Some(Operand::Int((x >= y) as i64)),
+        BinOp::Eq => return Some(Operand::Int((x == y) as i64)),
+        BinOp::Ne => return Some(Operand::Int((x != y) as i64)),
+        _ => return None,
+    };
+    r.is_finite().then_some(Operand::Dbl(r))
 }

@@ -168,47 +168,72 @@ pub(crate) type VarCell = Rc<RefCell<Var>>;
 pub(crate) type ArrayMap = IndexMap<String, Value, rustc_hash::FxBuildHasher>;
 pub(crate) type VarMap = IndexMap<Rc<str>, VarCell, rustc_hash::FxBuildHasher>;
 
-/// What proc calls reuse instead of allocating: argument vectors, slot
-/// arrays and variable cells of frames that have returned.
+/// What proc calls reuse instead of allocating: argument vectors and
+/// slot arrays of frames that have returned.
 #[derive(Default)]
 pub(crate) struct Pools {
     objv: Vec<Vec<Value>>,
-    slots: Vec<Vec<Option<VarCell>>>,
-    cells: Vec<VarCell>,
+    slots: Vec<Vec<Slot>>,
 }
 
 impl Pools {
     const MAX: usize = 256;
 
-    /// A variable cell holding `var`.
-    #[inline]
-    fn cell(&mut self, var: Var) -> VarCell {
-        match self.cells.pop() {
-            Some(c) => {
-                *c.borrow_mut() = var;
-                c
-            }
-            None => Rc::new(RefCell::new(var)),
-        }
-    }
-
-    /// Takes back what a returned frame held. Cells still shared (an
-    /// `upvar` from elsewhere, a coroutine) stay with their holders, and
-    /// none is reused while traces exist (they know cells by address).
-    fn recycle(&mut self, mut f: Frame, reuse_cells: bool) {
-        for c in f.slots.drain(..).flatten() {
-            if reuse_cells && Rc::strong_count(&c) == 1 && self.cells.len() < Self::MAX {
-                let old = std::mem::replace(&mut *c.borrow_mut(), Var::Undefined);
-                drop(old);
-                self.cells.push(c);
-            }
-        }
+    /// Takes back what a returned frame held.
+    fn recycle(&mut self, mut f: Frame) {
+        f.slots.clear();
         if self.slots.len() < Self::MAX {
             self.slots.push(std::mem::take(&mut f.slots));
         }
         if self.objv.len() < Self::MAX && f.objv.capacity() <= 64 {
             f.objv.clear();
             self.objv.push(std::mem::take(&mut f.objv));
+        }
+    }
+}
+
+/// A compiled proc's local variable, held in its frame's slot array
+/// (`compile.rs`): the value itself while only compiled code reaches it,
+/// numbers unboxed; a shared cell once anything else does.
+pub(crate) enum Slot {
+    /// The variable does not exist.
+    Empty,
+    /// A scalar whose value is this integer (or double), with no string
+    /// yet: its string would be the canonical one.
+    Int(i64),
+    Dbl(f64),
+    /// A scalar's value.
+    Val(Value),
+    /// The variable reached by name too (a lookup, `upvar`, `global`, a
+    /// trace): the cell is the variable from then on.
+    Cell(VarCell),
+}
+
+impl Slot {
+    /// The variable as a shareable cell (made one now, for good), or
+    /// `None` when it does not exist.
+    fn promote(&mut self) -> Option<VarCell> {
+        let var = match std::mem::replace(self, Slot::Empty) {
+            Slot::Empty => return None,
+            Slot::Cell(c) => {
+                *self = Slot::Cell(c.clone());
+                return Some(c);
+            }
+            Slot::Int(i) => Var::Scalar(Value::from_int(i)),
+            Slot::Dbl(d) => Var::Scalar(Value::from_f64(d)),
+            Slot::Val(v) => Var::Scalar(v),
+        };
+        let c = Rc::new(RefCell::new(var));
+        *self = Slot::Cell(c.clone());
+        Some(c)
+    }
+
+    /// Whether the variable exists with a value (not only declared).
+    fn is_defined(&self) -> bool {
+        match self {
+            Slot::Empty => false,
+            Slot::Cell(c) => !matches!(*c.borrow(), Var::Undefined),
+            _ => true,
         }
     }
 }
@@ -227,10 +252,10 @@ pub(crate) struct Frame {
     /// locals` leaves out).
     pub(crate) links: Vec<Rc<str>>,
     /// A compiled proc's locals (`compile.rs`): `slots[i]` holds the
-    /// variable named `names[i]` (`None`: it does not exist), so compiled
-    /// code reaches it by index; every other name lives in `vars`.
+    /// variable named `names[i]`, so compiled code reaches it by index;
+    /// every other name lives in `vars`.
     pub(crate) names: Option<Rc<[Rc<str>]>>,
-    pub(crate) slots: Vec<Option<VarCell>>,
+    pub(crate) slots: Vec<Slot>,
     /// The proc (or lambda) this is a call of.
     pub(crate) proc: Option<Rc<Proc>>,
 }
@@ -255,18 +280,19 @@ impl Frame {
         self.names.as_ref()?.iter().position(|n| &**n == name)
     }
 
-    /// The variable a name means in this frame, if it exists.
+    /// The variable a name means in this frame, if it exists (a compiled
+    /// local becomes a shared cell: see `Slot`).
     #[inline]
-    pub(crate) fn get(&self, name: &str) -> Option<&VarCell> {
+    pub(crate) fn get(&mut self, name: &str) -> Option<VarCell> {
         match self.slot_of(name) {
-            Some(i) => self.slots[i].as_ref(),
-            None => self.vars.get(name),
+            Some(i) => self.slots[i].promote(),
+            None => self.vars.get(name).cloned(),
         }
     }
 
     pub(crate) fn insert(&mut self, name: Rc<str>, cell: VarCell) {
         match self.slot_of(&name) {
-            Some(i) => self.slots[i] = Some(cell),
+            Some(i) => self.slots[i] = Slot::Cell(cell),
             None => {
                 self.vars.insert(name, cell);
             }
@@ -275,18 +301,31 @@ impl Frame {
 
     pub(crate) fn remove(&mut self, name: &str) {
         match self.slot_of(name) {
-            Some(i) => self.slots[i] = None,
+            Some(i) => self.slots[i] = Slot::Empty,
             None => {
                 self.vars.shift_remove(name);
             }
         }
     }
 
-    /// Every variable of the frame: the compiled locals in their order,
-    /// then the others in the order they were made (as Tcl lists them).
-    pub(crate) fn entries(&self) -> impl Iterator<Item = (&Rc<str>, &VarCell)> {
+    /// The names of the frame's variables that have values: the compiled
+    /// locals in their order, then the others in the order they were made
+    /// (as Tcl lists them).
+    pub(crate) fn defined_names(&self) -> impl Iterator<Item = &Rc<str>> {
         let names = self.names.as_deref().unwrap_or(&[]);
-        let slots = names.iter().zip(&self.slots).filter_map(|(n, c)| Some((n, c.as_ref()?)));
+        let slots = names.iter().zip(&self.slots).filter(|(_, s)| s.is_defined()).map(|(n, _)| n);
+        let others = self.vars.iter().filter(|(_, c)| !matches!(*c.borrow(), Var::Undefined));
+        slots.chain(others.map(|(n, _)| n))
+    }
+
+    /// The frame's variables that are cells (the only ones a trace can
+    /// be on).
+    pub(crate) fn cells(&self) -> impl Iterator<Item = (&Rc<str>, &VarCell)> {
+        let names = self.names.as_deref().unwrap_or(&[]);
+        let slots = names.iter().zip(&self.slots).filter_map(|(n, s)| match s {
+            Slot::Cell(c) => Some((n, c)),
+            _ => None,
+        });
         slots.chain(self.vars.iter())
     }
 }
@@ -1182,20 +1221,7 @@ impl Interp {
         let skip = if p.lambda.is_some() { 2 } else { 1 };
         let n_args = argv.len() - skip;
         let n_fixed = p.params.len() - p.variadic as usize;
-        let mut args: SmallVec<[Value; 8]> = SmallVec::with_capacity(p.params.len());
-        for (i, (_, default)) in p.params.iter().enumerate().take(n_fixed) {
-            args.push(if i < n_args {
-                argv[i + skip].clone()
-            } else if let Some(d) = default {
-                d.clone()
-            } else {
-                return Err(proc_usage(p, &argv[0]));
-            });
-        }
-        if p.variadic {
-            let rest = if n_args > n_fixed { argv[n_fixed + skip..].to_vec() } else { Vec::new() };
-            args.push(Value::from_list(rest));
-        } else if n_args > n_fixed {
+        if n_args > n_fixed && !p.variadic {
             return Err(proc_usage(p, &argv[0]));
         }
         let compiled = if p.lambda.is_none() { self.compiled_body(p) } else { None };
@@ -1204,20 +1230,38 @@ impl Interp {
         objv.extend_from_slice(argv);
         let mut frame = Frame::new(p.ns.clone(), level, self.cur, objv);
         frame.proc = Some(p.clone());
-        match &compiled {
-            Some(c) => {
-                // The parameters are the first slots.
-                let mut slots = self.pools.slots.pop().unwrap_or_default();
-                slots.extend(args.into_iter().map(|v| Some(self.pools.cell(Var::Scalar(v)))));
-                slots.resize(c.names.len(), None);
-                frame.slots = slots;
-                frame.names = Some(c.names.clone());
-            }
-            None => {
-                for ((name, _), v) in p.params.iter().zip(args) {
+        // The parameters: the first slots of a compiled body, else named.
+        let mut slots = match &compiled {
+            Some(_) => self.pools.slots.pop().unwrap_or_default(),
+            None => Vec::new(),
+        };
+        for (i, (name, default)) in p.params.iter().enumerate() {
+            let v = if i == n_fixed {
+                let rest =
+                    if n_args > n_fixed { argv[n_fixed + skip..].to_vec() } else { Vec::new() };
+                Value::from_list(rest)
+            } else if i < n_args {
+                argv[i + skip].clone()
+            } else if let Some(d) = default {
+                d.clone()
+            } else {
+                if compiled.is_some() && self.pools.slots.len() < Pools::MAX {
+                    slots.clear();
+                    self.pools.slots.push(slots);
+                }
+                return Err(proc_usage(p, &argv[0]));
+            };
+            match &compiled {
+                Some(_) => slots.push(Slot::Val(v)),
+                None => {
                     frame.vars.insert(name.clone(), Rc::new(RefCell::new(Var::Scalar(v))));
                 }
             }
+        }
+        if let Some(c) = &compiled {
+            slots.resize_with(c.names.len(), || Slot::Empty);
+            frame.slots = slots;
+            frame.names = Some(c.names.clone());
         }
         self.frames.push(frame);
         let saved = self.cur;
@@ -1239,7 +1283,7 @@ impl Interp {
             if self.var_traces.is_empty() { Vec::new() } else { self.traced_locals(self.cur) };
         self.ns = saved_ns;
         if let Some(f) = self.frames.pop() {
-            self.pools.recycle(f, self.var_traces.is_empty());
+            self.pools.recycle(f);
         }
         self.cur = saved;
         if !dying.is_empty() {
@@ -1286,11 +1330,12 @@ impl Interp {
     fn run_compiled(&mut self, c: &CompiledProc, in_file: bool) -> TclResult {
         self.begin_body_unit(Unit::body(c.body.script(), in_file));
         let direct = std::mem::replace(&mut self.direct, false);
-        let r = self.run_body(&c.body);
+        let r = self.run_body(&c.body, true);
         self.direct = direct;
         self.end_unit_frame();
         match r {
-            Ok(Outcome::Normal(v) | Outcome::Return(v)) => Ok(v),
+            Ok(Outcome::Normal(v)) => Ok(v.unwrap_or_default()),
+            Ok(Outcome::Return(v)) => Ok(v),
             Ok(Outcome::Break) => Err(Exception::flow(Code::Break, Value::empty())),
             Ok(Outcome::Continue) => Err(Exception::flow(Code::Continue, Value::empty())),
             Err(e) => Err(end_unit(*e, c.body.first_line())),
@@ -1386,12 +1431,12 @@ impl Interp {
         (frame, key.into_owned())
     }
 
-    pub(crate) fn find_var(&self, name: &str) -> Option<VarCell> {
+    pub(crate) fn find_var(&mut self, name: &str) -> Option<VarCell> {
         let (frame, key, fallback) = self.var_place(name);
-        self.frames[frame]
-            .get(&key)
-            .or_else(|| fallback.and_then(|f| self.frames[0].vars.get(f)))
-            .cloned()
+        match self.frames[frame].get(&key) {
+            Some(c) => Some(c),
+            None => fallback.and_then(|f| self.frames[0].vars.get(f).cloned()),
+        }
     }
 
     pub(crate) fn var_cell(&mut self, name: &str) -> VarCell {
@@ -1673,7 +1718,7 @@ impl Interp {
         Ok(())
     }
 
-    pub fn var_exists(&self, name: &str) -> bool {
+    pub fn var_exists(&mut self, name: &str) -> bool {
         let (base, idx) = split_var_name(name);
         let Some(cell) = self.find_var(base) else { return false };
         let (cell, idx) = deref_elem(cell, idx);
@@ -1735,7 +1780,7 @@ impl Interp {
             )));
         }
         let cell = match self.frames[frame].get(other) {
-            Some(c) => c.clone(),
+            Some(c) => c,
             None => {
                 let c = Rc::new(RefCell::new(Var::Undefined));
                 self.frames[frame].insert(Rc::from(other), c.clone());
@@ -1757,7 +1802,7 @@ impl Interp {
             return Err(Exception::error("can't upvar from variable to itself"));
         }
         if let Some(existing) = self.frames[self.cur].get(local) {
-            if Rc::ptr_eq(existing, &cell) {
+            if Rc::ptr_eq(&existing, &cell) {
                 return Ok(());
             }
             // A link may be moved to another variable; a variable stays.

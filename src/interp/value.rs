@@ -338,28 +338,6 @@ impl Value {
         }
     }
 
-    /// Makes this value the integer `i` in place when nothing else holds
-    /// it (`incr` in a loop allocates nothing); false when it is shared.
-    #[inline]
-    pub(crate) fn set_int_in_place(&mut self, i: i64) -> bool {
-        match Rc::get_mut(&mut self.0) {
-            Some(inner) if inner.string.get().is_none() => {
-                if let Rep::Int(x) = inner.rep.get_mut() {
-                    *x = i;
-                } else {
-                    *inner.rep.get_mut() = Rep::Int(i);
-                }
-                true
-            }
-            Some(inner) => {
-                inner.string.take();
-                *inner.rep.get_mut() = Rep::Int(i);
-                true
-            }
-            None => false,
-        }
-    }
-
     /// Appends to the string in place when this value is not shared.
     pub fn str_append(&mut self, extra: &str) {
         self.as_str();

@@ -179,3 +179,17 @@ set body {set r deep}
 for {set i 0} {$i < 80} {incr i} { set body "if 1 {$body}" }
 proc nested {} "$body; return \$r"
 puts [nested]
+# A call refused for its argument count leaves nothing for the next one.
+proc two {a b} { list $a $b }
+proc one args { lindex $args 0 }
+catch {two 1}
+puts [one x][two p q]
+# Locals hold numbers unboxed: read as values, incremented, appended to.
+proc nums {} {
+    set i 0; set d 0.5; set s [expr {$d * 3}]
+    for {set k 0} {$k < 3} {incr k} { incr i; set d [expr {$d + 0.25}] }
+    append i 7; lappend l $i $d $s
+    set n 9223372036854775806; incr n; set big [catch {incr n} e]
+    list $l $n $big [expr {$i + 1}] [string length $d]
+}
+puts [nums]

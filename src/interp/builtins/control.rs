@@ -5,7 +5,7 @@ use std::rc::Rc;
 use std::time::Instant;
 
 use super::super::error::{Code, Exception, TclResult};
-use super::super::eval::{Interp, Proc, Var};
+use super::super::eval::{Interp, Proc};
 use super::super::parser;
 use super::super::value::Value;
 use super::{Entry, check_args, glob_match, pick_option};
@@ -1270,10 +1270,7 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 return Ok(Value::empty());
             }
             let links = &interp.frames[frame].links;
-            let defined = interp.frames[frame]
-                .entries()
-                .filter(|(_, c)| !matches!(*c.borrow(), Var::Undefined))
-                .map(|(k, _)| &**k);
+            let defined = interp.frames[frame].defined_names().map(|k| &**k);
             if frame != 0 {
                 // A proc's variables in the order they were made.
                 let names =

@@ -252,7 +252,7 @@ impl Interp {
     /// A proc frame about to go: its own variables that have traces.
     pub(crate) fn traced_locals(&self, frame: usize) -> Vec<(Rc<str>, VarCell)> {
         self.frames[frame]
-            .entries()
+            .cells()
             .filter(|(_, c)| self.var_traces.contains_key(&key(c)) && Rc::strong_count(c) <= 2)
             .map(|(n, c)| (n.clone(), c.clone()))
             .collect()
@@ -297,7 +297,7 @@ impl Interp {
         Ok(())
     }
 
-    fn var_trace_entry(&self, name: &str) -> Option<(usize, Option<Rc<str>>)> {
+    fn var_trace_entry(&mut self, name: &str) -> Option<(usize, Option<Rc<str>>)> {
         let (base, elem) = split_var_name(name);
         let cell = self.find_var(base)?;
         let k = key(&cell);
@@ -317,7 +317,7 @@ impl Interp {
         }
     }
 
-    fn var_trace_info(&self, name: &str, old_style: bool) -> Value {
+    fn var_trace_info(&mut self, name: &str, old_style: bool) -> Value {
         let Some((k, elem)) = self.var_trace_entry(name) else { return Value::empty() };
         let list = &self.var_traces[&k].list;
         let items = list
