@@ -230,7 +230,7 @@ enum CExpr {
 
 /// Errors are boxed inside compiled code, so the common outcomes travel
 /// in registers.
-type Run<T> = Result<T, Box<Exception>>;
+type Run<T> = Result<T, Exception>;
 
 struct Compiler<'a> {
     interp: &'a Interp,
@@ -572,7 +572,7 @@ impl Interp {
 
     /// An error leaving command `i` of a body: its trace.
     #[cold]
-    fn log_op(&self, mut e: Box<Exception>, b: &Body, i: usize) -> Box<Exception> {
+    fn log_op(&self, mut e: Exception, b: &Body, i: usize) -> Exception {
         let s = &b.script;
         let cmd = &s.cmds[i];
         self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
@@ -595,7 +595,7 @@ impl Interp {
             } else {
                 let at = || At::Cmd(b.script.clone(), i as u32);
                 let cmd = &b.script.cmds[i];
-                self.eval_command(cmd, at).map(|v| Outcome::Normal(Some(v))).map_err(Box::new)
+                self.eval_command(cmd, at).map(|v| Outcome::Normal(Some(v)))
             };
             match r {
                 Ok(Outcome::Normal(v)) => {
@@ -612,7 +612,7 @@ impl Interp {
             let text = &s.src[pe.cmd_start as usize..(pe.pos as usize).min(s.src.len())];
             let mut e = Exception::error(pe.msg.clone());
             self.add_trace(&mut e, text, pe.line, s.first_line, &s.file, false);
-            return Err(Box::new(e));
+            return Err(e);
         }
         if want && result.is_none() {
             result = Some(Value::empty());
@@ -627,15 +627,12 @@ impl Interp {
         if let ([Op::Expr(e)], None) = (&b.ops[..], &b.script.error)
             && self.fast(b.epoch)
         {
-            return self
-                .ceval(e)
-                .and_then(|o| Ok(expr_result(o)?))
-                .map_err(|e| *self.log_op(e, b, 0));
+            return self.ceval(e).and_then(expr_result).map_err(|e| self.log_op(e, b, 0));
         }
         self.enter()?;
         let r = self.run_body(b, true);
         self.leave();
-        match r.map_err(|e| *e)? {
+        match r? {
             Outcome::Normal(v) => Ok(v.unwrap_or_default()),
             Outcome::Return(v) => {
                 // What `return v` raises (`cmd_return`): one level up.
@@ -668,7 +665,7 @@ impl Interp {
                 self.incr_local(*i, name, by, want)
             }
             Op::SetExpr((i, name), e, s) => {
-                let r = self.ceval(e).and_then(|o| Ok(slot_of_result(o)?)).map_err(|mut e| {
+                let r = self.ceval(e).and_then(slot_of_result).map_err(|mut e| {
                     let cmd = &s.cmds[0];
                     self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
                     e
@@ -857,12 +854,12 @@ impl Interp {
                     return Ok(compare(*op, p, q));
                 }
                 if let Some(r) = expr::binary_small(*op, p, q) {
-                    return Ok(cond_truth(r)?);
+                    return cond_truth(r);
                 }
             }
-            return Ok(cond_truth(expr::binary(*op, x, y)?)?);
+            return cond_truth(expr::binary(*op, x, y)?);
         }
-        Ok(cond_truth(self.ceval(e)?)?)
+        cond_truth(self.ceval(e)?)
     }
 
     /// Evaluates a compiled expression (`expr::eval`'s rules, with the

@@ -53,8 +53,28 @@ pub struct Loc {
     pub line: u32,
 }
 
+/// An exception: one pointer, so a `Result<Value, Exception>` travels in
+/// registers and only a raised exception costs an allocation.
 #[derive(Clone, Debug)]
-pub struct Exception {
+pub struct Exception(Box<ExceptionData>);
+
+impl std::ops::Deref for Exception {
+    type Target = ExceptionData;
+    #[inline]
+    fn deref(&self) -> &ExceptionData {
+        &self.0
+    }
+}
+
+impl std::ops::DerefMut for Exception {
+    #[inline]
+    fn deref_mut(&mut self) -> &mut ExceptionData {
+        &mut self.0
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct ExceptionData {
     pub code: Code,
     pub value: Value,
     /// For `return -code c -level n`: the code to become when `level` hits 0.
@@ -96,7 +116,7 @@ pub(crate) struct ExceptionExt {
 impl Exception {
     pub fn error(msg: impl Into<String>) -> Exception {
         let msg: String = msg.into();
-        Exception {
+        Exception(Box::new(ExceptionData {
             code: Code::Error,
             trace: msg.clone(),
             value: Value::from_string(msg),
@@ -109,11 +129,11 @@ impl Exception {
             loc: None,
             script_line: 0,
             ext: None,
-        }
+        }))
     }
 
     pub fn flow(code: Code, value: Value) -> Exception {
-        Exception {
+        Exception(Box::new(ExceptionData {
             code,
             value,
             return_code: None,
@@ -126,7 +146,12 @@ impl Exception {
             loc: None,
             script_line: 0,
             ext: None,
-        }
+        }))
+    }
+
+    /// The exception's parts, to move out of.
+    pub(crate) fn into_data(self) -> ExceptionData {
+        *self.0
     }
 
     pub(crate) fn errorstack(&self) -> Option<&Vec<Value>> {

@@ -1295,11 +1295,12 @@ impl Interp {
                 Code::Return => finish_return(e),
                 Code::Error => {
                     let what = if p.lambda.is_some() { "lambda term" } else { "procedure" };
-                    e.trace.push_str(&format!(
+                    let t = format!(
                         "\n    ({what} \"{}\" line {})",
                         truncate_cmd(argv[skip - 1].as_str()),
                         e.script_line
-                    ));
+                    );
+                    e.trace.push_str(&t);
                     Err(e)
                 }
                 Code::Break => Err(Exception::error("invoked \"break\" outside of a loop")),
@@ -1338,7 +1339,7 @@ impl Interp {
             Ok(Outcome::Return(v)) => Ok(v),
             Ok(Outcome::Break) => Err(Exception::flow(Code::Break, Value::empty())),
             Ok(Outcome::Continue) => Err(Exception::flow(Code::Continue, Value::empty())),
-            Err(e) => Err(end_unit(*e, c.body.first_line())),
+            Err(e) => Err(end_unit(e, c.body.first_line())),
         }
     }
 
@@ -2142,6 +2143,7 @@ pub(crate) fn finish_return(mut e: Exception) -> TclResult {
         e.level -= 1;
         return Err(e);
     }
+    let e = e.into_data();
     match e.return_code {
         None => Ok(e.value),
         Some(Code::Error) => {

@@ -280,7 +280,8 @@ impl Interp {
         match r {
             Err(mut e) if e.code == Code::Error => {
                 if let (Some(f), true) = (&file, e.script_line > 0) {
-                    e.trace.push_str(&format!("\n    (file \"{f}\" line {})", e.script_line));
+                    let t = format!("\n    (file \"{f}\" line {})", e.script_line);
+                    e.trace.push_str(&t);
                 }
                 // The unit that ran the file logs its own command.
                 e.logged = false;

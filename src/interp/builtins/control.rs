@@ -779,7 +779,8 @@ fn cmd_try(interp: &mut Interp, argv: &[Value]) -> TclResult {
     // more.
     let name = |e: &mut Exception, yes: bool, what: &str| {
         if yes && e.code == Code::Error {
-            e.trace.push_str(&format!("\n    ({what} line {})", e.script_line));
+            let t = format!("\n    ({what} line {})", e.script_line);
+            e.trace.push_str(&t);
             e.logged = true;
         }
     };
@@ -1029,7 +1030,8 @@ fn cmd_eval(interp: &mut Interp, argv: &[Value]) -> TclResult {
 /// `("eval" body line 2)`.
 pub(crate) fn with_body_line(mut e: Exception, what: &str) -> Exception {
     if e.code == Code::Error {
-        e.trace.push_str(&format!("\n    ({what} line {})", e.script_line));
+        let t = format!("\n    ({what} line {})", e.script_line);
+        e.trace.push_str(&t);
     }
     e
 }

@@ -109,11 +109,12 @@ fn cmd_namespace(interp: &mut Interp, argv: &[Value]) -> TclResult {
             let script = if a.len() == 2 { a[1].clone() } else { super::control::concat(&a[1..])? };
             within(interp, &ns, |i| i.eval(&script)).map_err(|mut e| {
                 if e.code == crate::interp::error::Code::Error {
-                    e.trace.push_str(&format!(
+                    let t = format!(
                         "\n    (in namespace eval \"{}\" script line {})",
                         shown(&ns),
                         e.script_line
-                    ));
+                    );
+                    e.trace.push_str(&t);
                 }
                 e
             })

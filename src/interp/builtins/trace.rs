@@ -195,7 +195,7 @@ impl Interp {
                     };
                     let mut err =
                         Exception::error(format!("can't {verb} \"{name}\": {}", e.value.as_str()));
-                    err.error_code = e.error_code;
+                    err.error_code = e.error_code.clone();
                     err.trace = format!("{}\n    ({ty} trace on \"{name}\")", e.trace);
                     err.traced = true;
                     return Err(err);
