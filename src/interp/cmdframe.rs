@@ -133,7 +133,9 @@ pub(crate) struct CmdFrame {
     /// The call frame (index into `Interp::frames`) it runs in: the
     /// innermost proc's, even under `uplevel`.
     pub(crate) frame: usize,
-    pub(crate) unit: Unit,
+    /// How it counts lines; `None` for a compiled proc body, whose unit
+    /// `frame`'s proc gives (so a call clones nothing for it).
+    pub(crate) unit: Option<Unit>,
     pub(crate) at: Option<At>,
     /// Evaluated directly (Tcl's TclEvalEx): the literal words of its
     /// command in progress can be found from anywhere (`uplevel`).
@@ -156,7 +158,41 @@ impl Interp {
     #[inline]
     pub(crate) fn begin_unit(&mut self, unit: Unit) {
         let frame = self.frames.len() - 1;
-        self.cmd_frames.push(CmdFrame { frame, unit, at: None, direct: false, proc_body: false });
+        self.cmd_frames.push(CmdFrame {
+            frame,
+            unit: Some(unit),
+            at: None,
+            direct: false,
+            proc_body: false,
+        });
+    }
+
+    /// Starts the unit of the compiled body of the proc whose frame is on
+    /// top.
+    #[inline]
+    pub(crate) fn begin_compiled_body_unit(&mut self) {
+        let frame = self.frames.len() - 1;
+        self.cmd_frames.push(CmdFrame {
+            frame,
+            unit: None,
+            at: None,
+            direct: false,
+            proc_body: true,
+        });
+    }
+
+    /// A unit's way of counting lines.
+    fn unit_of_frame(&self, f: &CmdFrame) -> Unit {
+        if let Some(u) = &f.unit {
+            return u.clone();
+        }
+        match &self.frames[f.frame].proc {
+            Some(p) => match &*p.compiled.borrow() {
+                Some(c) => Unit::body(c.body.script(), p.in_file),
+                None => Unit::body(&Interp::script_of(&p.body), p.in_file),
+            },
+            None => Unit::eval(1),
+        }
     }
 
     /// Starts a proc body's unit.
@@ -214,7 +250,7 @@ impl Interp {
     /// else one of its own.
     pub(crate) fn unit_of(&self, script: &Value, own_first_line: u32) -> Unit {
         match self.current_literal(script) {
-            Some((f, _)) => f.unit.clone(),
+            Some((f, _)) => self.unit_of_frame(f),
             None => self.registered_unit(script, own_first_line),
         }
     }
@@ -223,7 +259,7 @@ impl Interp {
     /// words are known to it.
     pub(crate) fn registered_unit(&self, script: &Value, own_first_line: u32) -> Unit {
         let found = self.mine().iter().rev().find(|f| f.direct && f.has_literal(script));
-        found.map_or_else(|| Unit::eval(own_first_line), |f| f.unit.clone())
+        found.map_or_else(|| Unit::eval(own_first_line), |f| self.unit_of_frame(f))
     }
 
     /// The units a running coroutine sees (only its own, as in Tcl).
@@ -246,7 +282,8 @@ impl Interp {
     /// Whether a proc body given as `body` is located in a file: it is a
     /// literal word of the `proc` command, which runs from a file.
     pub(crate) fn body_in_file(&self, body: &Value) -> bool {
-        self.current_literal(body).is_some_and(|(f, _)| f.unit.kind == UnitKind::Source)
+        self.current_literal(body)
+            .is_some_and(|(f, _)| self.unit_of_frame(f).kind == UnitKind::Source)
     }
 
     /// A lambda's unit (`apply`): in the file, its body's lines shifted to
@@ -255,7 +292,8 @@ impl Interp {
     pub(crate) fn lambda_unit(&self, term: &Value, body: &Value) -> Unit {
         let own = Unit { kind: UnitKind::Proc, first_line: 1, file: None, shift: 0 };
         let Some((f, at)) = self.current_literal(term) else { return own };
-        if f.unit.kind != UnitKind::Source {
+        let unit = self.unit_of_frame(f);
+        if unit.kind != UnitKind::Source {
             return own;
         }
         // The term's line: the command's, plus the lines before the term
@@ -266,8 +304,8 @@ impl Interp {
         let Some(at_body) = term_s.rfind(body.as_str()) else { return own };
         let newlines = |s: &str| s.bytes().filter(|&c| c == b'\n').count() as u32;
         let line =
-            at.line() + f.unit.shift + newlines(&text[..at_term]) + newlines(&term_s[..at_body]);
-        Unit { kind: UnitKind::Source, first_line: 1, file: f.unit.file.clone(), shift: line - 1 }
+            at.line() + unit.shift + newlines(&text[..at_term]) + newlines(&term_s[..at_body]);
+        Unit { kind: UnitKind::Source, first_line: 1, file: unit.file, shift: line - 1 }
     }
 
     /// How many units are in progress (`info frame`).
@@ -286,6 +324,7 @@ impl Interp {
         }
         let idx = if n > 0 { n - 1 } else { top - 1 + n } as usize;
         let f = &self.cmd_frames[idx];
+        let unit = self.unit_of_frame(f);
         let mut out: Vec<Value> = Vec::with_capacity(12);
         let mut pair = |k: &str, v: Value| {
             out.push(Value::from(k));
@@ -293,18 +332,18 @@ impl Interp {
         };
         let (line, text) = match &f.at {
             Some(at) => (at.line(), at.text()),
-            None => (f.unit.first_line, ""),
+            None => (unit.first_line, ""),
         };
-        match f.unit.kind {
+        match unit.kind {
             UnitKind::Source => {
                 pair("type", Value::from("source"));
-                pair("line", Value::from_int(line as i64 + f.unit.shift as i64));
-                let file = f.unit.file.as_deref().unwrap_or("");
+                pair("line", Value::from_int(line as i64 + unit.shift as i64));
+                let file = unit.file.as_deref().unwrap_or("");
                 pair("file", Value::from(file));
             }
             kind => {
                 pair("type", Value::from(if kind == UnitKind::Proc { "proc" } else { "eval" }));
-                let rel = (line as i64 + 1 - f.unit.first_line as i64).max(1);
+                let rel = (line as i64 + 1 - unit.first_line as i64).max(1);
                 pair("line", Value::from_int(rel));
             }
         }

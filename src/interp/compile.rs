@@ -26,7 +26,7 @@ use smallvec::SmallVec;
 
 use super::cmdframe::At;
 use super::error::{Code, Exception, TclResult};
-use super::eval::{CommandKind, Interp, Proc, Slot, Var, cond_truth, expr_result};
+use super::eval::{CommandKind, Interp, NativeFn, Proc, Slot, Var, cond_truth, expr_result};
 use super::expr::{self, BinOp, Expr, Func, Operand, UnOp};
 use super::number::Num;
 use super::parser::{Part, Script, VarName, Word};
@@ -36,8 +36,15 @@ use super::value::{Rep, Value};
 /// namespace) bumps `Interp::inline_epoch` and so recompiles.
 pub(crate) const INLINE_OPS: &[&str] = &[
     "set", "incr", "append", "lappend", "if", "while", "for", "foreach", "expr", "return", "break",
-    "continue",
+    "continue", "string", "llength", "lindex", "lrange", "list", "join", "split", "concat",
 ];
+
+/// The builtins that only compute a value from their words (they run no
+/// script and touch no variable): a compiled call to one goes straight to
+/// its function, without the command table, a nesting level or a frame
+/// record (as Tcl compiles them to instructions).
+const DIRECT_OPS: &[&str] =
+    &["string", "llength", "lindex", "lrange", "list", "join", "split", "concat"];
 
 /// Nesting of literal bodies compiled inline; deeper ones run as ordinary
 /// commands (so compiling never recurses without a bound).
@@ -109,8 +116,14 @@ enum Op {
         words: Vec<Word>,
         cache: RefCell<Option<(u64, CommandKind)>>,
     },
+    /// A builtin of `DIRECT_OPS`, called straight.
+    Direct(NativeFn, Vec<Word>),
     Get(Local),
     Set(Local, Word),
+    /// `set a(k)`, `set a(k) v`, `incr a(k) ?n?` on a local array.
+    GetElem(Local, Word),
+    SetElem(Local, Word, Word),
+    IncrElem(Local, Word, Word),
     /// `set x [expr {...}]`: the number straight into the slot; the
     /// substituted script is kept for errorInfo.
     SetExpr(Local, CExpr, Rc<Script>),
@@ -141,8 +154,10 @@ impl Op {
     fn runs_code(&self) -> bool {
         match self {
             Op::Call { .. } => true,
+            Op::Direct(_, ws) => ws.iter().any(word_runs_code),
             Op::Get(_) | Op::Break | Op::Continue | Op::Return(None) => false,
-            Op::Set(_, w) | Op::Return(Some(w)) => word_runs_code(w),
+            Op::Set(_, w) | Op::Return(Some(w)) | Op::GetElem(_, w) => word_runs_code(w),
+            Op::SetElem(_, k, w) | Op::IncrElem(_, k, w) => word_runs_code(k) || word_runs_code(w),
             Op::SetExpr(_, e, _) | Op::Expr(e) => e.runs_code(),
             Op::Incr(_, By::Word(w)) => word_runs_code(w),
             Op::Incr(..) => false,
@@ -189,6 +204,7 @@ impl CExpr {
 fn word_runs_code(w: &Word) -> bool {
     match w {
         Word::Lit(_) | Word::Local(..) => false,
+        Word::LocalElem(_, _, i) => word_runs_code(i),
         Word::Var(VarName::Scalar(_)) => false,
         Word::Var(VarName::Elem(_, i)) => word_runs_code(i),
         Word::Cmd(_) | Word::Compiled(_) => true,
@@ -251,6 +267,57 @@ impl Compiler<'_> {
                 self.names.push(Rc::from(name));
                 ((self.names.len() - 1) as u32, self.names[self.names.len() - 1].clone())
             }
+        }
+    }
+
+    /// A variable-name word that names an element of a local array
+    /// (`a(1)`, `a($k)`, `a(x$i)`): the array's slot and the index word.
+    fn elem_word(&mut self, w: &Word) -> Option<(Local, Word)> {
+        match w {
+            Word::Lit(v) => {
+                let (base, idx) = super::eval::split_var_name(v.as_str());
+                let idx = idx?;
+                is_local_name(base).then(|| (self.slot(base), Word::Lit(Value::from(idx))))
+            }
+            Word::Concat(parts) => {
+                let (Some(Part::Lit(first)), Some(Part::Lit(last))) = (parts.first(), parts.last())
+                else {
+                    return None;
+                };
+                if parts.len() < 2 || !last.ends_with(')') {
+                    return None;
+                }
+                let open = first.find('(')?;
+                if !is_local_name(&first[..open]) {
+                    return None;
+                }
+                let local = self.slot(&first[..open]);
+                // The index: the parts between the parentheses, compiled.
+                let mut key = Vec::new();
+                if open + 1 < first.len() {
+                    key.push(Part::Lit(first[open + 1..].to_string()));
+                }
+                for p in &parts[1..parts.len() - 1] {
+                    key.push(self.part(p));
+                }
+                if last.len() > 1 {
+                    key.push(Part::Lit(last[..last.len() - 1].to_string()));
+                }
+                let key = match key.len() {
+                    0 => Word::Lit(Value::empty()),
+                    1 => match key.pop() {
+                        Some(Part::Lit(s)) => Word::Lit(Value::from(s)),
+                        Some(Part::Var(n)) => Word::Var(n),
+                        Some(Part::Cmd(s)) => Word::Cmd(s),
+                        Some(Part::Local(i, n)) => Word::Local(i, n),
+                        Some(Part::Compiled(b)) => Word::Compiled(b),
+                        None => unreachable!("one part"),
+                    },
+                    _ => Word::Concat(key),
+                };
+                Some((local, key))
+            }
+            _ => None,
         }
     }
 
@@ -338,6 +405,7 @@ impl Compiler<'_> {
             Word::Concat(parts) => Word::Concat(parts.iter().map(|p| self.part(p)).collect()),
             Word::Expand(inner) => Word::Expand(Box::new(self.word(inner))),
             Word::Local(i, n) => Word::Local(*i, n.clone()),
+            Word::LocalElem(i, n, k) => Word::LocalElem(*i, n.clone(), Box::new(self.word(k))),
             Word::Compiled(b) => Word::Compiled(b.clone()),
         }
     }
@@ -347,6 +415,9 @@ impl Compiler<'_> {
         match name {
             VarName::Scalar(n) if is_local_name(n) => Ok(Word::Local(self.slot(n).0, n.clone())),
             VarName::Scalar(n) => Err(VarName::Scalar(n.clone())),
+            VarName::Elem(n, idx) if is_local_name(n) => {
+                Ok(Word::LocalElem(self.slot(n).0, n.clone(), Box::new(self.word(idx))))
+            }
             VarName::Elem(n, idx) => Err(VarName::Elem(n.clone(), Box::new(self.word(idx)))),
         }
     }
@@ -356,6 +427,8 @@ impl Compiler<'_> {
             Part::Lit(s) => Part::Lit(s.clone()),
             Part::Var(name) => match self.var_name(name) {
                 Ok(Word::Local(i, n)) => Part::Local(i, n),
+                // An element in a longer word is read by name.
+                Ok(Word::LocalElem(_, n, k)) => Part::Var(VarName::Elem(n, k)),
                 Ok(_) => unreachable!("var_name makes locals only"),
                 Err(name) => Part::Var(name),
             },
@@ -394,6 +467,22 @@ impl Compiler<'_> {
     /// allows it (the others, errors included, run as ordinary calls).
     fn inline(&mut self, name: &str, w: &[Word]) -> Option<Op> {
         Some(match (name, w.len()) {
+            ("set", 2) if self.local_word(&w[1]).is_none() => {
+                let (slot, key) = self.elem_word(&w[1])?;
+                Op::GetElem(slot, key)
+            }
+            ("set", 3) if self.local_word(&w[1]).is_none() => {
+                let (slot, key) = self.elem_word(&w[1])?;
+                Op::SetElem(slot, key, self.word(&w[2]))
+            }
+            ("incr", 2 | 3) if self.local_word(&w[1]).is_none() => {
+                let (slot, key) = self.elem_word(&w[1])?;
+                let by = match w.get(2) {
+                    None => Word::Lit(Value::from_int(1)),
+                    Some(x) => self.word(x),
+                };
+                Op::IncrElem(slot, key, by)
+            }
             ("set", 2) => Op::Get(self.local_word(&w[1])?),
             ("set", 3) => {
                 let slot = self.local_word(&w[1])?;
@@ -445,6 +534,18 @@ impl Compiler<'_> {
                 Op::Foreach(slot, list, self.nested(&w[3])?)
             }
             ("if", _) => self.if_op(w)?,
+            (n, _) if DIRECT_OPS.contains(&n) => {
+                let f = match (n, w.get(1)) {
+                    ("string", Some(Word::Lit(sub))) => match sub.as_str() {
+                        "length" => super::builtins::string_length,
+                        "index" => super::builtins::string_index,
+                        "range" => super::builtins::string_range,
+                        _ => self.interp.builtin_fn(n)?,
+                    },
+                    _ => self.interp.builtin_fn(n)?,
+                };
+                Op::Direct(f, w.iter().map(|x| self.word(x)).collect())
+            }
             ("return", 1) => Op::Return(None),
             ("return", 2) => Op::Return(Some(self.word(&w[1]))),
             ("break", 1) => Op::Break,
@@ -680,6 +781,16 @@ impl Interp {
             Op::Call { words, cache } => {
                 Ok(Outcome::Normal(Some(self.run_call(words, cache, script, at)?)))
             }
+            Op::Direct(f, words) => {
+                let argv = self.eval_words8(words)?;
+                let mark = crate::mem::mark();
+                let mut r = f(self, &argv);
+                self.note_inner(&argv, &mut r);
+                if crate::mem::grew_past(mark) || super::value::has_pending() {
+                    return Ok(Outcome::Normal(Some(super::eval::after_growth(r)?)));
+                }
+                Ok(Outcome::Normal(Some(r?)))
+            }
             Op::Append(..) | Op::Lappend(..) => {
                 let mark = crate::mem::mark();
                 let r = self.run_inline(op, want);
@@ -695,10 +806,30 @@ impl Interp {
 
     fn run_inline(&mut self, op: &Op, want: bool) -> Run<Outcome> {
         Ok(match op {
-            Op::Call { .. } | Op::Set(..) | Op::SetExpr(..) | Op::Incr(..) => {
+            Op::Call { .. } | Op::Direct(..) | Op::Set(..) | Op::SetExpr(..) | Op::Incr(..) => {
                 unreachable!("run_op runs these")
             }
             Op::Get((i, name)) => Outcome::Normal(Some(self.read_local(*i, name)?)),
+            Op::GetElem((i, name), key) => {
+                let key = self.eval_word(key)?;
+                Outcome::Normal(Some(self.read_local_elem(*i, name, &key)?))
+            }
+            Op::SetElem((i, name), key, w) => {
+                let key = self.eval_word(key)?;
+                let v = self.eval_word(w)?;
+                let mark = crate::mem::mark();
+                let v = self.set_local_elem(*i, name, &key, v)?;
+                if crate::mem::grew_past(mark) {
+                    super::eval::after_growth(Ok(Value::empty()))?;
+                }
+                Outcome::Normal(want.then_some(v))
+            }
+            Op::IncrElem((i, name), key, by) => {
+                let key = self.eval_word(key)?;
+                let by = self.eval_word(by)?.as_integer()?;
+                let v = self.incr_local_elem(*i, name, &key, by)?;
+                Outcome::Normal(want.then_some(v))
+            }
             Op::Append((i, name), words) | Op::Lappend((i, name), words) => {
                 let change = match op {
                     Op::Append(..) => super::builtins::append_strings,
@@ -783,6 +914,14 @@ impl Interp {
 
     fn eval_words(&mut self, words: &[Word]) -> Result<SmallVec<[Value; 4]>, Exception> {
         words.iter().map(|w| self.eval_word(w)).collect()
+    }
+
+    fn eval_words8(&mut self, words: &[Word]) -> Result<SmallVec<[Value; 8]>, Exception> {
+        let mut argv = SmallVec::new();
+        for w in words {
+            argv.push(self.eval_word(w)?);
+        }
+        Ok(argv)
     }
 
     /// A call site: the words substituted, the command from the cache
@@ -896,12 +1035,12 @@ impl Interp {
             CExpr::Binary(op, a, b) => {
                 let x = self.ceval(a)?;
                 let y = self.ceval(b)?;
+                if let (Some(p), Some(q)) = (expr::quick_int(&x), expr::quick_int(&y))
+                    && let Some(r) = expr::binary_small(*op, p, q)
+                {
+                    return Ok(r);
+                }
                 match (&x, &y) {
-                    (Operand::Int(p), Operand::Int(q)) => {
-                        if let Some(r) = expr::binary_small(*op, *p, *q) {
-                            return Ok(r);
-                        }
-                    }
                     // Doubles: the arithmetic Tcl does, without `Num`s.
                     (Operand::Dbl(p), Operand::Dbl(q)) => {
                         if let Some(r) = dbl_binary(*op, *p, *q) {
@@ -1016,6 +1155,63 @@ impl Interp {
             }
         }
         self.get_var(name)
+    }
+
+    /// Element `key` of the local array in slot `i` (by name for the
+    /// exact error when it is not one).
+    pub(crate) fn read_local_elem(&mut self, i: u32, name: &str, key: &Value) -> TclResult {
+        if self.var_traces.is_empty()
+            && let Slot::Cell(c) = &self.frames[self.cur].slots[i as usize]
+            && let Var::Array(m) = &*c.borrow()
+            && let Some(v) = m.get(key.as_str())
+        {
+            return Ok(v.clone());
+        }
+        self.get_var(&format!("{name}({})", key.as_str()))
+    }
+
+    /// Sets element `key` of the local array in slot `i`, making the
+    /// array if the variable does not exist.
+    fn set_local_elem(&mut self, i: u32, name: &str, key: &Value, v: Value) -> TclResult {
+        if self.var_traces.is_empty() {
+            let slot = &mut self.frames[self.cur].slots[i as usize];
+            if let Slot::Empty = slot {
+                let array = Var::Array(super::eval::ArrayMap::default());
+                *slot = Slot::Cell(Rc::new(RefCell::new(array)));
+            }
+            if let Slot::Cell(c) = slot {
+                let mut var = c.borrow_mut();
+                if let Var::Undefined = *var {
+                    *var = Var::Array(super::eval::ArrayMap::default());
+                }
+                if let Var::Array(m) = &mut *var {
+                    match m.get_mut(key.as_str()) {
+                        Some(x) => *x = v.clone(),
+                        None => {
+                            m.insert(key.as_str().to_string(), v.clone());
+                        }
+                    }
+                    return Ok(v);
+                }
+            }
+        }
+        self.set_var(&format!("{name}({})", key.as_str()), v)
+    }
+
+    /// `incr` of element `key` of the local array in slot `i`.
+    fn incr_local_elem(&mut self, i: u32, name: &str, key: &Value, by: Num) -> TclResult {
+        if let Num::Int(by) = by
+            && self.var_traces.is_empty()
+            && let Slot::Cell(c) = &self.frames[self.cur].slots[i as usize]
+            && let Var::Array(m) = &mut *c.borrow_mut()
+            && let Some(x) = m.get_mut(key.as_str())
+            && let Ok(Num::Int(n)) = x.as_integer()
+            && let Some(sum) = n.checked_add(by)
+        {
+            *x = Value::from_int(sum);
+            return Ok(x.clone());
+        }
+        self.incr_var(&format!("{name}({})", key.as_str()), by)
     }
 
     /// Sets local slot `i` (by name for anything but a plain scalar).

@@ -238,19 +238,23 @@ impl Slot {
     }
 }
 
+/// A frame's variables by name, and its links.
+#[derive(Default)]
+struct Named {
+    vars: VarMap,
+    links: Vec<Rc<str>>,
+}
+
 pub(crate) struct Frame {
     /// The namespace code in this frame runs in.
     pub(crate) ns: Rc<str>,
-    /// In the order they were made (`info vars` in a proc lists them so,
-    /// as Tcl lists compiled locals).
-    pub(crate) vars: VarMap,
+    /// Variables by name and links, when the frame has any (boxed: a
+    /// compiled proc's frame rarely does).
+    named: Option<Box<Named>>,
     pub(crate) level: usize,
     /// Index of the frame whose variables the caller saw (for `upvar 1`).
     pub(crate) caller: usize,
     pub(crate) objv: Vec<Value>,
-    /// Names made links by `upvar`, `global` or `variable` (which `info
-    /// locals` leaves out).
-    pub(crate) links: Vec<Rc<str>>,
     /// A compiled proc's locals (`compile.rs`): `slots[i]` holds the
     /// variable named `names[i]`, so compiled code reaches it by index;
     /// every other name lives in `vars`.
@@ -262,17 +266,27 @@ pub(crate) struct Frame {
 
 impl Frame {
     pub(crate) fn new(ns: Rc<str>, level: usize, caller: usize, objv: Vec<Value>) -> Frame {
-        Frame {
-            ns,
-            vars: VarMap::default(),
-            level,
-            caller,
-            objv,
-            links: Vec::new(),
-            names: None,
-            slots: Vec::new(),
-            proc: None,
-        }
+        Frame { ns, named: None, level, caller, objv, names: None, slots: Vec::new(), proc: None }
+    }
+
+    /// The variables known by name (not compiled locals), in the order
+    /// they were made (`info vars` in a proc lists them so).
+    pub(crate) fn vars(&self) -> Option<&VarMap> {
+        self.named.as_ref().map(|n| &n.vars)
+    }
+
+    pub(crate) fn vars_mut(&mut self) -> &mut VarMap {
+        &mut self.named.get_or_insert_with(Default::default).vars
+    }
+
+    /// Names made links by `upvar`, `global` or `variable` (which `info
+    /// locals` leaves out).
+    pub(crate) fn links(&self) -> &[Rc<str>] {
+        self.named.as_ref().map_or(&[], |n| &n.links)
+    }
+
+    pub(crate) fn add_link(&mut self, name: Rc<str>) {
+        self.named.get_or_insert_with(Default::default).links.push(name);
     }
 
     #[inline]
@@ -286,7 +300,7 @@ impl Frame {
     pub(crate) fn get(&mut self, name: &str) -> Option<VarCell> {
         match self.slot_of(name) {
             Some(i) => self.slots[i].promote(),
-            None => self.vars.get(name).cloned(),
+            None => self.vars()?.get(name).cloned(),
         }
     }
 
@@ -294,7 +308,7 @@ impl Frame {
         match self.slot_of(&name) {
             Some(i) => self.slots[i] = Slot::Cell(cell),
             None => {
-                self.vars.insert(name, cell);
+                self.vars_mut().insert(name, cell);
             }
         }
     }
@@ -303,7 +317,9 @@ impl Frame {
         match self.slot_of(name) {
             Some(i) => self.slots[i] = Slot::Empty,
             None => {
-                self.vars.shift_remove(name);
+                if let Some(n) = &mut self.named {
+                    n.vars.shift_remove(name);
+                }
             }
         }
     }
@@ -314,7 +330,8 @@ impl Frame {
     pub(crate) fn defined_names(&self) -> impl Iterator<Item = &Rc<str>> {
         let names = self.names.as_deref().unwrap_or(&[]);
         let slots = names.iter().zip(&self.slots).filter(|(_, s)| s.is_defined()).map(|(n, _)| n);
-        let others = self.vars.iter().filter(|(_, c)| !matches!(*c.borrow(), Var::Undefined));
+        let others = self.vars().into_iter().flatten();
+        let others = others.filter(|(_, c)| !matches!(*c.borrow(), Var::Undefined));
         slots.chain(others.map(|(n, _)| n))
     }
 
@@ -326,7 +343,7 @@ impl Frame {
             Slot::Cell(c) => Some((n, c)),
             _ => None,
         });
-        slots.chain(self.vars.iter())
+        slots.chain(self.vars().into_iter().flatten())
     }
 }
 
@@ -531,6 +548,11 @@ impl Interp {
         }
     }
 
+    /// The function of a builtin compiled code may call straight.
+    pub(crate) fn builtin_fn(&self, name: &str) -> Option<NativeFn> {
+        self.inline_builtins.iter().find(|(n, _)| *n == name).map(|(_, f)| *f)
+    }
+
     /// Whether `name`, looked up here, is the builtin registered under
     /// that name (not a proc or another command renamed to it).
     pub(crate) fn is_original_builtin(&self, name: &str) -> bool {
@@ -676,7 +698,7 @@ impl Interp {
         self.cmd_epoch += 1;
         self.inline_epoch += 1;
         self.commands.retain(|k, _| !k.starts_with(prefix));
-        self.frames[0].vars.retain(|k, _| !k.starts_with(prefix));
+        self.frames[0].vars_mut().retain(|k, _| !k.starts_with(prefix));
     }
 
     pub(crate) fn mark_ensemble(&mut self, key: &str) {
@@ -692,7 +714,7 @@ impl Interp {
     pub(crate) fn qualify_var(&self, name: &str) -> String {
         let (frame, key, fallback) = self.var_place(name);
         if frame == 0
-            && !self.frames[0].vars.contains_key(&*key)
+            && !self.frames[0].vars().is_some_and(|v| v.contains_key(&*key))
             && let Some(f) = fallback
         {
             return f.to_string();
@@ -1035,6 +1057,10 @@ impl Interp {
             Word::Var(name) => self.get_var_name(name),
             Word::Cmd(s) => self.eval_nested(s),
             Word::Local(i, name) => self.read_local(*i, name),
+            Word::LocalElem(i, name, key) => {
+                let key = self.eval_word(key)?;
+                self.read_local_elem(*i, name, &key)
+            }
             Word::Compiled(b) => self.run_nested(b),
             Word::Concat(parts) => {
                 let mut out = String::new();
@@ -1143,6 +1169,19 @@ impl Interp {
         self.invoke_cmd(cmd, argv)
     }
 
+    /// Starts an error's `-errorstack` with the command that raised it.
+    pub(crate) fn note_inner(&self, argv: &[Value], r: &mut TclResult) {
+        if let Err(e) = r
+            && e.code == Code::Error
+            && e.errorstack().is_none()
+            && !e.logged
+            && !self.direct
+        {
+            let inner = inner_context(argv, e);
+            e.ext_mut().errorstack = Some(vec![Value::from("INNER"), inner]);
+        }
+    }
+
     /// Calls the command `argv[0]` resolved to.
     pub(crate) fn invoke_cmd(&mut self, cmd: CommandKind, argv: &[Value]) -> TclResult {
         self.enter()?;
@@ -1161,15 +1200,7 @@ impl Interp {
             let key = self.command_key(argv[0].as_str());
             self.invoke_traced(key, argv, cmd)
         };
-        if let Err(e) = &mut r
-            && e.code == Code::Error
-            && e.errorstack().is_none()
-            && !e.logged
-            && !self.direct
-        {
-            let inner = inner_context(argv, e);
-            e.ext_mut().errorstack = Some(vec![Value::from("INNER"), inner]);
-        }
+        self.note_inner(argv, &mut r);
         // `tailcall`: the proc has returned; its successor runs here, in
         // the caller's frame, as a loop (a tail-recursive proc runs in
         // constant depth).
@@ -1254,7 +1285,7 @@ impl Interp {
             match &compiled {
                 Some(_) => slots.push(Slot::Val(v)),
                 None => {
-                    frame.vars.insert(name.clone(), Rc::new(RefCell::new(Var::Scalar(v))));
+                    frame.vars_mut().insert(name.clone(), Rc::new(RefCell::new(Var::Scalar(v))));
                 }
             }
         }
@@ -1268,7 +1299,7 @@ impl Interp {
         self.cur = self.frames.len() - 1;
         let saved_ns = std::mem::replace(&mut self.ns, p.ns.clone());
         let r = match &compiled {
-            Some(c) => self.run_compiled(c, p.in_file),
+            Some(c) => self.run_compiled(c),
             None => {
                 let s = Interp::script_of(&p.body);
                 let unit = match &p.lambda {
@@ -1328,8 +1359,8 @@ impl Interp {
     }
 
     /// Runs a compiled proc body as `eval` runs a script: a unit of its own.
-    fn run_compiled(&mut self, c: &CompiledProc, in_file: bool) -> TclResult {
-        self.begin_body_unit(Unit::body(c.body.script(), in_file));
+    fn run_compiled(&mut self, c: &CompiledProc) -> TclResult {
+        self.begin_compiled_body_unit();
         let direct = std::mem::replace(&mut self.direct, false);
         let r = self.run_body(&c.body, true);
         self.direct = direct;
@@ -1436,7 +1467,7 @@ impl Interp {
         let (frame, key, fallback) = self.var_place(name);
         match self.frames[frame].get(&key) {
             Some(c) => Some(c),
-            None => fallback.and_then(|f| self.frames[0].vars.get(f).cloned()),
+            None => fallback.and_then(|f| self.frames[0].vars()?.get(f).cloned()),
         }
     }
 
@@ -1808,13 +1839,13 @@ impl Interp {
             }
             // A link may be moved to another variable; a variable stays.
             if !matches!(*existing.borrow(), Var::Undefined)
-                && !self.frames[self.cur].links.iter().any(|l| &**l == local)
+                && !self.frames[self.cur].links().iter().any(|l| &**l == local)
             {
                 return Err(Exception::error(format!("variable \"{local}\" already exists")));
             }
         }
         let local: Rc<str> = Rc::from(local);
-        self.frames[self.cur].links.push(local.clone());
+        self.frames[self.cur].add_link(local.clone());
         self.frames[self.cur].insert(local, cell);
         Ok(())
     }

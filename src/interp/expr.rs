@@ -920,7 +920,7 @@ fn bits(op: BinOp, x: &Num, y: &Num) -> Operand {
 
 /// An operand's 64-bit integer when it is one already (no parsing).
 #[inline]
-fn quick_int(o: &Operand) -> Option<i64> {
+pub(crate) fn quick_int(o: &Operand) -> Option<i64> {
     match o {
         Operand::Int(i) => Some(*i),
         Operand::Str(v) => v.cached_int(),

@@ -61,6 +61,8 @@ pub enum Word {
     Expand(Box<Word>),
     /// In a compiled body (`compile.rs`): `$name` of a local, by slot.
     Local(u32, Rc<str>),
+    /// In a compiled body: `$name(index)` of a local array, by slot.
+    LocalElem(u32, Rc<str>, Box<Word>),
     /// In a compiled body: a compiled `[...]`.
     Compiled(Rc<super::compile::Body>),
 }

@@ -193,3 +193,19 @@ proc nums {} {
     list $l $n $big [expr {$i + 1}] [string length $d]
 }
 puts [nums]
+# Local arrays: elements by slot, the array by name too.
+proc arr {} {
+    set k x
+    set a(1) one; set a($k) two; set a(y$k) three; set a() empty
+    incr a(n); incr a(n) 4; incr a($k$k) 2
+    lappend r $a(1) $a($k) $a(y$k) $a() $a(n) $a(xx) [set a(1)]
+    lappend r [lsort [array names a]] [array size a] [info exists a(zz)]
+    set s 5
+    lappend r [catch {set s(1) 2} e] $e [catch {set a} e] $e [catch {set a(q)} e] $e
+    lappend r [catch {incr a(1)} e] $e
+    upvar 0 a(1) one; set one ONE; lappend r $a(1)
+    unset a(1); lappend r [info exists a(1)] [catch {set a(1)} e] $e
+    array set b {p 1 q 2}; incr b(p) 10; lappend r $b(p) "[set b(q)]!"
+    return $r
+}
+puts [arr]

@@ -1271,7 +1271,7 @@ fn cmd_info(interp: &mut Interp, argv: &[Value]) -> TclResult {
             if sub == "locals" && interp.level() == 0 {
                 return Ok(Value::empty());
             }
-            let links = &interp.frames[frame].links;
+            let links = interp.frames[frame].links();
             let defined = interp.frames[frame].defined_names().map(|k| &**k);
             if frame != 0 {
                 // A proc's variables in the order they were made.

@@ -37,6 +37,7 @@ pub(crate) use coro::Coroutines;
 pub(crate) use lists::append_elements;
 pub(crate) use misc::{PARRAY, UNKNOWN};
 pub use package::{Packages, TCL_PATCHLEVEL, TCL_VERSION};
+pub(crate) use strings::{string_index, string_length, string_range};
 pub(crate) use trace::{CmdTraces, VarTraceTable};
 pub(crate) use vars::append_strings;
 

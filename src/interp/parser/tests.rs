@@ -15,7 +15,9 @@ fn words(src: &str) -> Vec<Vec<String>> {
                     Word::Cmd(s) => format!("C:{}", s.cmds.len()),
                     Word::Concat(p) => format!("P:{}", p.len()),
                     Word::Expand(_) => "X".to_string(),
-                    Word::Local(..) | Word::Compiled(_) => unreachable!("the parser makes neither"),
+                    Word::Local(..) | Word::LocalElem(..) | Word::Compiled(_) => {
+                        unreachable!("the parser makes neither")
+                    }
                 })
                 .collect()
         })
