@@ -1170,13 +1170,17 @@ impl Interp {
     }
 
     /// Starts an error's `-errorstack` with the command that raised it.
+    #[inline]
     pub(crate) fn note_inner(&self, argv: &[Value], r: &mut TclResult) {
-        if let Err(e) = r
-            && e.code == Code::Error
-            && e.errorstack().is_none()
-            && !e.logged
-            && !self.direct
-        {
+        if let Err(e) = r {
+            self.note_inner_error(argv, e);
+        }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn note_inner_error(&self, argv: &[Value], e: &mut Exception) {
+        if e.code == Code::Error && e.errorstack().is_none() && !e.logged && !self.direct {
             let inner = inner_context(argv, e);
             e.ext_mut().errorstack = Some(vec![Value::from("INNER"), inner]);
         }
@@ -1204,8 +1208,23 @@ impl Interp {
         // `tailcall`: the proc has returned; its successor runs here, in
         // the caller's frame, as a loop (a tail-recursive proc runs in
         // constant depth).
+        if r.is_ok() && self.tailcall.is_some() {
+            r = self.run_tailcalls(level);
+        }
+        self.depth -= 1;
+        self.levels -= level as usize;
+        if crate::mem::grew_past(mark) || value::has_pending() {
+            return after_growth(r);
+        }
+        r
+    }
+
+    /// `tailcall`s left by the command just run, one after the other.
+    #[cold]
+    #[inline(never)]
+    fn run_tailcalls(&mut self, level: bool) -> TclResult {
+        let mut r = Ok(Value::empty());
         while r.is_ok()
-            && self.tailcall.is_some()
             && let Some(next) = self.tailcall.take()
         {
             r = match self.resolve_command(next[0].as_str()).cloned() {
@@ -1222,11 +1241,6 @@ impl Interp {
                     Err(Exception::error(format!("invalid command name \"{}\"", next[0].as_str())))
                 }
             };
-        }
-        self.depth -= 1;
-        self.levels -= level as usize;
-        if crate::mem::grew_past(mark) || value::has_pending() {
-            return after_growth(r);
         }
         r
     }
@@ -1251,18 +1265,69 @@ impl Interp {
         // The words before the arguments: the name, or `apply` and the term.
         let skip = if p.lambda.is_some() { 2 } else { 1 };
         let n_args = argv.len() - skip;
-        let n_fixed = p.params.len() - p.variadic as usize;
-        if n_args > n_fixed && !p.variadic {
-            return Err(proc_usage(p, &argv[0]));
-        }
         let compiled = if p.lambda.is_none() { self.compiled_body(p) } else { None };
         let level = self.frames[self.cur].level + 1;
         let mut objv = self.pools.objv.pop().unwrap_or_default();
         objv.extend_from_slice(argv);
         let mut frame = Frame::new(p.ns.clone(), level, self.cur, objv);
         frame.proc = Some(p.clone());
-        // The parameters: the first slots of a compiled body, else named.
-        let mut slots = match &compiled {
+        match &compiled {
+            // The parameters: the first slots of a compiled body.
+            Some(c) if !p.variadic && n_args == p.params.len() => {
+                let mut slots = self.pools.slots.pop().unwrap_or_default();
+                slots.extend(argv[skip..].iter().map(|v| Slot::Val(v.clone())));
+                slots.resize_with(c.names.len(), || Slot::Empty);
+                frame.slots = slots;
+                frame.names = Some(c.names.clone());
+            }
+            _ => {
+                if let Err(e) = self.bind_params(&mut frame, p, compiled.as_deref(), argv, skip) {
+                    self.pools.recycle(frame);
+                    return Err(e);
+                }
+            }
+        }
+        self.frames.push(frame);
+        let saved = self.cur;
+        self.cur = self.frames.len() - 1;
+        let saved_ns = std::mem::replace(&mut self.ns, p.ns.clone());
+        let r = match &compiled {
+            Some(c) => self.run_compiled(c),
+            None => self.run_proc_script(p),
+        };
+        let dying =
+            if self.var_traces.is_empty() { Vec::new() } else { self.traced_locals(self.cur) };
+        self.ns = saved_ns;
+        if let Some(f) = self.frames.pop() {
+            self.pools.recycle(f);
+        }
+        self.cur = saved;
+        if !dying.is_empty() {
+            self.fire_frame_unset_traces(dying);
+        }
+        match r {
+            Ok(v) => Ok(v),
+            Err(e) => proc_exit(p, &argv[skip - 1], e),
+        }
+    }
+
+    /// A proc's parameters bound in its new frame, in general: defaults,
+    /// `args`, a body not compiled (its locals then by name).
+    #[inline(never)]
+    fn bind_params(
+        &mut self,
+        frame: &mut Frame,
+        p: &Proc,
+        compiled: Option<&CompiledProc>,
+        argv: &[Value],
+        skip: usize,
+    ) -> Result<(), Exception> {
+        let n_args = argv.len() - skip;
+        let n_fixed = p.params.len() - p.variadic as usize;
+        if n_args > n_fixed && !p.variadic {
+            return Err(proc_usage(p, &argv[0]));
+        }
+        let mut slots = match compiled {
             Some(_) => self.pools.slots.pop().unwrap_or_default(),
             None => Vec::new(),
         };
@@ -1282,63 +1347,31 @@ impl Interp {
                 }
                 return Err(proc_usage(p, &argv[0]));
             };
-            match &compiled {
+            match compiled {
                 Some(_) => slots.push(Slot::Val(v)),
                 None => {
                     frame.vars_mut().insert(name.clone(), Rc::new(RefCell::new(Var::Scalar(v))));
                 }
             }
         }
-        if let Some(c) = &compiled {
+        if let Some(c) = compiled {
             slots.resize_with(c.names.len(), || Slot::Empty);
             frame.slots = slots;
             frame.names = Some(c.names.clone());
         }
-        self.frames.push(frame);
-        let saved = self.cur;
-        self.cur = self.frames.len() - 1;
-        let saved_ns = std::mem::replace(&mut self.ns, p.ns.clone());
-        let r = match &compiled {
-            Some(c) => self.run_compiled(c),
-            None => {
-                let s = Interp::script_of(&p.body);
-                let unit = match &p.lambda {
-                    Some(term) => self.lambda_unit(term, &p.body),
-                    None => Unit::body(&s, p.in_file),
-                };
-                self.begin_body_unit(unit);
-                self.eval_begun_unit(&s)
-            }
+        Ok(())
+    }
+
+    /// A proc or lambda body run as a script (not compiled).
+    #[inline(never)]
+    fn run_proc_script(&mut self, p: &Proc) -> TclResult {
+        let s = Interp::script_of(&p.body);
+        let unit = match &p.lambda {
+            Some(term) => self.lambda_unit(term, &p.body),
+            None => Unit::body(&s, p.in_file),
         };
-        let dying =
-            if self.var_traces.is_empty() { Vec::new() } else { self.traced_locals(self.cur) };
-        self.ns = saved_ns;
-        if let Some(f) = self.frames.pop() {
-            self.pools.recycle(f);
-        }
-        self.cur = saved;
-        if !dying.is_empty() {
-            self.fire_frame_unset_traces(dying);
-        }
-        match r {
-            Ok(v) => Ok(v),
-            Err(mut e) => match e.code {
-                Code::Return => finish_return(e),
-                Code::Error => {
-                    let what = if p.lambda.is_some() { "lambda term" } else { "procedure" };
-                    let t = format!(
-                        "\n    ({what} \"{}\" line {})",
-                        truncate_cmd(argv[skip - 1].as_str()),
-                        e.script_line
-                    );
-                    e.trace.push_str(&t);
-                    Err(e)
-                }
-                Code::Break => Err(Exception::error("invoked \"break\" outside of a loop")),
-                Code::Continue => Err(Exception::error("invoked \"continue\" outside of a loop")),
-                Code::Exit(_) | Code::Other(_) => Err(e),
-            },
-        }
+        self.begin_body_unit(unit);
+        self.eval_begun_unit(&s)
     }
 
     /// A proc's compiled body, compiled now if it is not yet (or no
@@ -1938,6 +1971,7 @@ pub(crate) fn cond_truth(v: Operand) -> Result<bool, Exception> {
     }
 }
 
+#[inline(never)]
 fn call_numeric(
     interp: &mut Interp,
     arity: usize,
@@ -2000,6 +2034,7 @@ fn stdout_error(e: &std::io::Error) -> Exception {
 /// or took the heap past the budget: an error, unless one is already on its
 /// way (with its trace) or the script is exiting.
 #[cold]
+#[inline(never)]
 pub(crate) fn after_growth(r: TclResult) -> TclResult {
     let pending = value::take_pending();
     match r {
@@ -2144,6 +2179,8 @@ fn add_trace_text(
 /// An error leaving an evaluation unit whose text starts at `first_line`:
 /// its line within the unit (for `(procedure "f" line N)`), and the next
 /// unit out logs its own command again.
+#[cold]
+#[inline(never)]
 fn end_unit(mut e: Exception, first_line: u32) -> Exception {
     if e.abs_line > 0 {
         e.script_line = (e.abs_line + 1).saturating_sub(first_line).max(1);
@@ -2151,6 +2188,29 @@ fn end_unit(mut e: Exception, first_line: u32) -> Exception {
     e.logged = false;
     e.abs_line = 0;
     e
+}
+
+/// What leaves a proc's body, as the caller sees it: `return` ends here,
+/// an error gains the proc's line, `break` and `continue` are errors.
+#[cold]
+#[inline(never)]
+fn proc_exit(p: &Proc, name: &Value, mut e: Exception) -> TclResult {
+    match e.code {
+        Code::Return => finish_return(e),
+        Code::Error => {
+            let what = if p.lambda.is_some() { "lambda term" } else { "procedure" };
+            let t = format!(
+                "\n    ({what} \"{}\" line {})",
+                truncate_cmd(name.as_str()),
+                e.script_line
+            );
+            e.trace.push_str(&t);
+            Err(e)
+        }
+        Code::Break => Err(Exception::error("invoked \"break\" outside of a loop")),
+        Code::Continue => Err(Exception::error("invoked \"continue\" outside of a loop")),
+        Code::Exit(_) | Code::Other(_) => Err(e),
+    }
 }
 
 fn proc_usage(p: &Proc, name: &Value) -> Exception {

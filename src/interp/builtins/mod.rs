@@ -135,7 +135,21 @@ pub(crate) fn parse_index(v: &Value, len: usize) -> Result<i64, Exception> {
     if let Some(i) = v.cached_int() {
         return Ok(i);
     }
-    let s = v.as_str().trim();
+    let raw = v.as_str();
+    if raw == "end" {
+        return Ok(len as i64 - 1);
+    }
+    // A plain decimal integer: kept as the value's number, so the next
+    // use of this (literal) index reads it straight.
+    if !raw.is_empty()
+        && raw.len() < 19
+        && raw.bytes().all(|b| b.is_ascii_digit())
+        && (raw.len() == 1 || !raw.starts_with('0'))
+        && let Some(super::number::Num::Int(i)) = v.as_num()
+    {
+        return Ok(i);
+    }
+    let s = raw.trim();
     let bad = || {
         Exception::error(format!(
             "bad index \"{}\": must be integer?[+-]integer? or end?[+-]integer?",

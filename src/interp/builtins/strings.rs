@@ -114,18 +114,19 @@ fn char_len(s: &str) -> usize {
     if s.is_ascii() { s.len() } else { s.chars().count() }
 }
 
-/// Characters `first..=last` (clamped) as a string.
-fn char_range(s: &str, first: i64, last: i64) -> String {
-    let len = char_len(s) as i64;
+/// Characters `first..=last` (clamped) as a value.
+fn char_range(s: &str, first: i64, last: i64) -> Value {
+    let ascii = s.is_ascii();
+    let len = if ascii { s.len() } else { s.chars().count() } as i64;
     let f = first.max(0);
     let l = last.min(len - 1);
     if f > l {
-        return String::new();
+        return Value::empty();
     }
-    if s.is_ascii() {
-        return s[f as usize..=l as usize].to_string();
+    if ascii {
+        return Value::from(&s[f as usize..=l as usize]);
     }
-    s.chars().skip(f as usize).take((l - f + 1) as usize).collect()
+    Value::from_string(s.chars().skip(f as usize).take((l - f + 1) as usize).collect())
 }
 
 /// `string length s` (`argv` has both words of the command's name; the
@@ -144,7 +145,7 @@ pub(crate) fn string_index(_: &mut Interp, argv: &[Value]) -> TclResult {
     }
     let s = argv[2].as_str();
     let i = parse_index(&argv[3], char_len(s))?;
-    Ok(Value::from_string(char_range(s, i, i)))
+    Ok(char_range(s, i, i))
 }
 
 /// `string range s first last`.
@@ -154,7 +155,7 @@ pub(crate) fn string_range(_: &mut Interp, argv: &[Value]) -> TclResult {
     }
     let s = argv[2].as_str();
     let n = char_len(s);
-    Ok(Value::from_string(char_range(s, parse_index(&argv[3], n)?, parse_index(&argv[4], n)?)))
+    Ok(char_range(s, parse_index(&argv[3], n)?, parse_index(&argv[4], n)?))
 }
 
 fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {

@@ -250,6 +250,7 @@ impl Interp {
     }
 
     /// A proc frame about to go: its own variables that have traces.
+    #[inline(never)]
     pub(crate) fn traced_locals(&self, frame: usize) -> Vec<(Rc<str>, VarCell)> {
         self.frames[frame]
             .cells()
@@ -260,6 +261,7 @@ impl Interp {
 
     /// After a proc returned: the unset traces of its variables run, in
     /// its caller's frame.
+    #[inline(never)]
     pub(crate) fn fire_frame_unset_traces(&mut self, dying: Vec<(Rc<str>, VarCell)>) {
         for (name, cell) in dying {
             *cell.borrow_mut() = Var::Undefined;
@@ -369,6 +371,7 @@ impl Interp {
     /// Runs a command under its execution traces and any step traces
     /// active now. An enter trace may delete or redefine the command: it
     /// is looked up again before it runs.
+    #[inline(never)]
     pub(crate) fn invoke_traced(
         &mut self,
         key: Option<String>,
