@@ -1264,15 +1264,21 @@ impl Interp {
 
     #[inline(always)]
     fn incr_local(&mut self, i: u32, name: &str, by: i64, want: bool) -> Run<Outcome> {
-        if self.var_traces.is_empty()
-            && let Slot::Int(x) = &mut self.frames[self.cur].slots[i as usize]
-            && let Some(sum) = x.checked_add(by)
-        {
-            *x = sum;
-            if want {
-                return Ok(Outcome::Normal(Some(Value::from_int(sum))));
+        if self.var_traces.is_empty() {
+            let slot = &mut self.frames[self.cur].slots[i as usize];
+            // An integer, or a value read from one (`$i` keeps its value).
+            let x = match slot {
+                Slot::Int(x) => Some(*x),
+                Slot::Val(v) => v.cached_int(),
+                _ => None,
+            };
+            if let Some(sum) = x.and_then(|x| x.checked_add(by)) {
+                *slot = Slot::Int(sum);
+                if want {
+                    return Ok(Outcome::Normal(Some(Value::from_int(sum))));
+                }
+                return Ok(Outcome::Normal(None));
             }
-            return Ok(Outcome::Normal(None));
         }
         self.incr_local_slow(i, name, by, want)
     }
