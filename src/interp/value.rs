@@ -295,6 +295,15 @@ impl Value {
     }
 
     /// The value as a list (cached).
+    /// The number of elements of the value as a list.
+    #[inline]
+    pub fn list_len(&self) -> Result<usize, Exception> {
+        if let Rep::List(l) = &*self.0.rep.borrow() {
+            return Ok(l.len());
+        }
+        Ok(self.as_list()?.len())
+    }
+
     pub fn as_list(&self) -> Result<Rc<Vec<Value>>, Exception> {
         if let Rep::List(l) = &*self.0.rep.borrow() {
             return Ok(l.clone());
@@ -307,6 +316,14 @@ impl Value {
     /// Appends list elements in place when this value is not shared, so
     /// `lappend` in a loop is linear, not quadratic.
     pub fn list_append(&mut self, extra: &[Value]) -> Result<(), Exception> {
+        // An unshared list value: in place, with no reference taken.
+        if let Some(inner) = Rc::get_mut(&mut self.0)
+            && let Rep::List(l) = inner.rep.get_mut()
+        {
+            Rc::make_mut(l).extend_from_slice(extra);
+            inner.string.take();
+            return Ok(());
+        }
         let items = self.as_list()?;
         if let Some(inner) = Rc::get_mut(&mut self.0) {
             drop(items);

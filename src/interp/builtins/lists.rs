@@ -95,7 +95,7 @@ fn cmd_lappend(interp: &mut Interp, argv: &[Value]) -> TclResult {
 
 /// `lappend`'s change to the variable's value.
 pub(crate) fn append_elements(v: &mut Value, extra: &[Value]) -> Result<(), Exception> {
-    check_list_len(v.as_list()?.len() + extra.len() + 2)?;
+    check_list_len(v.list_len()? + extra.len() + 2)?;
     v.list_append(extra)
 }
 
