@@ -142,6 +142,8 @@ enum Op {
         body: Body,
     },
     Foreach(Local, Word, Body),
+    /// `foreach` in general: for each list, the variables it fills.
+    ForeachN(Vec<(Vec<Local>, Word)>, Body),
     Expr(CExpr),
     Return(Option<Word>),
     Break,
@@ -173,6 +175,7 @@ impl Op {
                     || body.runs_any()
             }
             Op::Foreach(_, w, b) => word_runs_code(w) || b.runs_any(),
+            Op::ForeachN(lists, b) => lists.iter().any(|(_, w)| word_runs_code(w)) || b.runs_any(),
         }
     }
 }
@@ -533,6 +536,20 @@ impl Compiler<'_> {
                 let list = self.word(&w[2]);
                 Op::Foreach(slot, list, self.nested(&w[3])?)
             }
+            ("foreach", n) if n >= 4 && n % 2 == 0 => {
+                let mut lists = Vec::new();
+                for pair in w[1..n - 1].chunks(2) {
+                    let Word::Lit(vars) = &pair[0] else { return None };
+                    let names = vars.as_list().ok()?;
+                    // An empty variable list is the builtin's error.
+                    if names.is_empty() || !names.iter().all(|v| is_local_name(v.as_str())) {
+                        return None;
+                    }
+                    let locals = names.iter().map(|v| self.slot(v.as_str())).collect();
+                    lists.push((locals, self.word(&pair[1])));
+                }
+                Op::ForeachN(lists, self.nested(&w[n - 1])?)
+            }
             ("if", _) => self.if_op(w)?,
             (n, _) if DIRECT_OPS.contains(&n) => {
                 let f = match (n, w.get(1)) {
@@ -882,6 +899,38 @@ impl Interp {
                 for item in items.iter() {
                     self.poll()?;
                     self.set_local(*i, name, item.clone())?;
+                    match self.run_loop_body(body)? {
+                        Step::Go => {}
+                        Step::Stop => break,
+                        Step::Out(out) => return Ok(out),
+                    }
+                }
+                Outcome::Normal(want.then(Value::empty))
+            }
+            Op::ForeachN(lists, body) => {
+                // Every list word first, then each read as a list, as Tcl does.
+                let mut values: SmallVec<[Value; 4]> = SmallVec::new();
+                for (_, w) in lists {
+                    values.push(self.eval_word(w)?);
+                }
+                let mut items: SmallVec<[Rc<Vec<Value>>; 4]> = SmallVec::new();
+                for v in &values {
+                    items.push(v.as_list()?);
+                }
+                let turns = lists
+                    .iter()
+                    .zip(&items)
+                    .map(|((vars, _), l)| l.len().div_ceil(vars.len()))
+                    .max()
+                    .unwrap_or(0);
+                for turn in 0..turns {
+                    self.poll()?;
+                    for ((vars, _), l) in lists.iter().zip(&items) {
+                        for (j, (i, name)) in vars.iter().enumerate() {
+                            let v = l.get(turn * vars.len() + j).cloned().unwrap_or_default();
+                            self.set_local(*i, name, v)?;
+                        }
+                    }
                     match self.run_loop_body(body)? {
                         Step::Go => {}
                         Step::Stop => break,

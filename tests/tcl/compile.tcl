@@ -209,3 +209,22 @@ proc arr {} {
     return $r
 }
 puts [arr]
+# foreach with several variables and lists (compiled in general).
+proc fe {} {
+    set r {}
+    foreach {x y z} {1 2 3 4 5 6 7} { lappend r "$x,$y,$z" }
+    foreach a {1 2 3} {b c} {p q r s t} { lappend r [list $a $b $c] }
+    foreach {a b} {} c {u v} { lappend r [list $a $b $c] }
+    foreach i {1 2 3 4} j {a b c d} { if {$i == 2} continue; if {$i == 4} break; lappend r $i$j }
+    lappend r [catch {foreach i {1 2} j "a \{b" {}} e] $e $i
+    array set arr {}
+    lappend r [catch {foreach {k arr} {1 2} {}} e] $e $k
+    lappend r [catch {foreach {} {1 2} {}} e] $e
+    set n 0
+    foreach {x y} [list [incr n] [incr n] [incr n]] w [list $n] { lappend r $x/$y/$w }
+    lappend r [foreach {p q} {1 2} {}] [lsort [info locals]]
+    return $r
+}
+puts [fe]
+proc fe_ret {} { foreach {a b} {1 2 3 4} c {x y} { if {$a == 3} { return $b$c } } }
+puts [fe_ret]
