@@ -124,6 +124,8 @@ enum Op {
     GetElem(Local, Word),
     SetElem(Local, Word, Word),
     IncrElem(Local, Word, Word),
+    /// `append` (false) or `lappend` (true) to an element of a local array.
+    AppendElem(bool, Local, Word, Vec<Word>),
     /// `set x [expr {...}]`: the number straight into the slot; the
     /// substituted script is kept for errorInfo.
     SetExpr(Local, CExpr, Rc<Script>),
@@ -160,6 +162,7 @@ impl Op {
             Op::Get(_) | Op::Break | Op::Continue | Op::Return(None) => false,
             Op::Set(_, w) | Op::Return(Some(w)) | Op::GetElem(_, w) => word_runs_code(w),
             Op::SetElem(_, k, w) | Op::IncrElem(_, k, w) => word_runs_code(k) || word_runs_code(w),
+            Op::AppendElem(_, _, k, ws) => word_runs_code(k) || ws.iter().any(word_runs_code),
             Op::SetExpr(_, e, _) | Op::Expr(e) => e.runs_code(),
             Op::Incr(_, By::Word(w)) => word_runs_code(w),
             Op::Incr(..) => false,
@@ -506,6 +509,11 @@ impl Compiler<'_> {
                 };
                 Op::Incr(slot, by)
             }
+            ("append" | "lappend", 3..) if self.local_word(&w[1]).is_none() => {
+                let (slot, key) = self.elem_word(&w[1])?;
+                let words = w[2..].iter().map(|x| self.word(x)).collect();
+                Op::AppendElem(name == "lappend", slot, key, words)
+            }
             ("append", 3..) => {
                 let slot = self.local_word(&w[1])?;
                 Op::Append(slot, w[2..].iter().map(|x| self.word(x)).collect())
@@ -808,7 +816,7 @@ impl Interp {
                 }
                 Ok(Outcome::Normal(Some(r?)))
             }
-            Op::Append(..) | Op::Lappend(..) => {
+            Op::Append(..) | Op::Lappend(..) | Op::AppendElem(..) => {
                 let mark = crate::mem::mark();
                 let r = self.run_inline(op, want);
                 // The memory budget, as `invoke` checks it.
@@ -839,6 +847,17 @@ impl Interp {
                 if crate::mem::grew_past(mark) {
                     super::eval::after_growth(Ok(Value::empty()))?;
                 }
+                Outcome::Normal(want.then_some(v))
+            }
+            Op::AppendElem(list, (i, name), key, words) => {
+                let change = if *list {
+                    super::builtins::append_elements
+                } else {
+                    super::builtins::append_strings
+                };
+                let key = self.eval_word(key)?;
+                let vals = self.eval_words(words)?;
+                let v = self.update_local_elem(*i, name, &key, &mut |v| change(v, &vals))?;
                 Outcome::Normal(want.then_some(v))
             }
             Op::IncrElem((i, name), key, by) => {
@@ -1245,6 +1264,35 @@ impl Interp {
             }
         }
         self.set_var(&format!("{name}({})", key.as_str()), v)
+    }
+
+    /// `append`/`lappend` to element `key` of the local array in slot `i`:
+    /// `f` changes the element in place.
+    fn update_local_elem(
+        &mut self,
+        i: u32,
+        name: &str,
+        key: &Value,
+        f: &mut dyn FnMut(&mut Value) -> Result<(), Exception>,
+    ) -> TclResult {
+        if self.var_traces.is_empty() {
+            let slot = &mut self.frames[self.cur].slots[i as usize];
+            if let Slot::Empty = slot {
+                let array = Var::Array(super::eval::ArrayMap::default());
+                *slot = Slot::Cell(Rc::new(RefCell::new(array)));
+            }
+            if let Slot::Cell(c) = slot
+                && let Var::Array(m) = &mut *c.borrow_mut()
+            {
+                let x = match m.get_mut(key.as_str()) {
+                    Some(x) => x,
+                    None => m.entry(key.as_str().to_string()).or_default(),
+                };
+                f(x)?;
+                return Ok(x.clone());
+            }
+        }
+        self.update_var(&format!("{name}({})", key.as_str()), Some(Value::empty()), f)
     }
 
     /// `incr` of element `key` of the local array in slot `i`.

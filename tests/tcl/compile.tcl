@@ -228,3 +228,18 @@ proc fe {} {
 puts [fe]
 proc fe_ret {} { foreach {a b} {1 2 3 4} c {x y} { if {$a == 3} { return $b$c } } }
 puts [fe_ret]
+# append and lappend to local array elements.
+proc ae {} {
+    set k x
+    lappend a(1) p q; lappend a(1) r; lappend a($k) {s t}; append a(s$k) u v; append a(s$k) w
+    lappend r $a(1) $a($k) $a(s$k) [lsort [array names a]] [lappend a(1)] [append a(sx)]
+    set a(bad) "a \{"
+    lappend r [catch {lappend a(bad) z} e] $e $a(bad)
+    set s 1
+    lappend r [catch {lappend s(1) z} e] $e [catch {append s(1) z} e] $e
+    upvar 0 a(1) one; lappend one END; lappend r $a(1)
+    foreach {c v} {p 1 q 2 p 3} { lappend g($c) $v }
+    lappend r [array get g]
+    return $r
+}
+puts [ae]
