@@ -354,7 +354,7 @@ impl Compiler<'_> {
     fn expr(&mut self, w: &Word) -> Option<CExpr> {
         let Word::Lit(v) = w else { return None };
         let (file, line) = match &*v.rep() {
-            Rep::Origin(f, l, _) => (f.clone(), *l),
+            Rep::Origin(o) => (o.file.clone(), o.line),
             _ => (None, 1),
         };
         let e = expr::parse(v.as_str(), file, line).ok()?;

@@ -870,7 +870,7 @@ impl Interp {
     pub(crate) fn script_of(v: &Value) -> Rc<Script> {
         let (file, line, cont) = match &*v.rep() {
             Rep::Script(s) => return s.clone(),
-            Rep::Origin(f, l, c) => (f.clone(), *l, c.clone()),
+            Rep::Origin(o) => (o.file.clone(), o.line, o.cont.clone()),
             _ => (None, 1, None),
         };
         let s = Rc::new(Script::parse_with(Rc::from(v.as_str()), file, line, cont));
@@ -1459,7 +1459,7 @@ impl Interp {
     pub(crate) fn expr_of(&mut self, v: &Value) -> Result<Rc<Expr>, Exception> {
         let (file, line) = match &*v.rep() {
             Rep::Expr(e) => return Ok(e.clone()),
-            Rep::Origin(f, l, _) => (f.clone(), *l),
+            Rep::Origin(o) => (o.file.clone(), o.line),
             _ => (None, 1),
         };
         let e = Rc::new(expr::parse(v.as_str(), file, line)?);

@@ -77,8 +77,19 @@ pub(crate) enum Rep {
     Expr(Rc<Expr>),
     /// A braced word straight from the parser: where it came from, so a proc
     /// or loop body defined in a file reports that file's line numbers.
-    Origin(Option<Rc<str>>, u32, Option<Rc<super::parser::Cont>>),
+    Origin(Box<Origin>),
 }
+
+/// Where a braced word came from (boxed: `Rep` stays two words, so a
+/// value is 64 bytes with its counts).
+#[derive(Clone)]
+pub(crate) struct Origin {
+    pub(crate) file: Option<Rc<str>>,
+    pub(crate) line: u32,
+    pub(crate) cont: Option<Rc<super::parser::Cont>>,
+}
+
+const _: () = assert!(std::mem::size_of::<Inner>() <= 48);
 
 thread_local! {
     static EMPTY: Value = Value::from_string(String::new());
@@ -152,7 +163,7 @@ impl Value {
     ) -> Value {
         Value(Rc::new(Inner {
             string: OnceCell::from(CompactString::from(s)),
-            rep: RefCell::new(Rep::Origin(file, line, cont)),
+            rep: RefCell::new(Rep::Origin(Box::new(Origin { file, line, cont }))),
         }))
     }
 

@@ -418,7 +418,7 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         1,
         "not enough memory: ",
     ),
-    ("split of 6 M characters", "split [string repeat x 6000000] {}", 1, "not enough memory: "),
+    ("split of 10 M characters", "split [string repeat x 10000000] {}", 1, "not enough memory: "),
     ("concat doubling", "set l {a b c}; while 1 {set l [concat $l $l]}", 1, "not enough memory: "),
     ("append doubling", "set s x; while 1 {append s $s}", 1, "not enough memory: "),
     ("word doubling", "set s x; while 1 {set s $s$s}", 1, "not enough memory: "),

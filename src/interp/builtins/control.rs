@@ -311,7 +311,7 @@ fn cmd_subst(interp: &mut Interp, argv: &[Value]) -> TclResult {
     let text = &argv[argv.len() - 1];
     // A braced string keeps its lines (for `info frame` in its commands).
     let (file, line, cont) = match &*text.rep() {
-        crate::interp::value::Rep::Origin(f, l, c) => (f.clone(), *l, c.clone()),
+        crate::interp::value::Rep::Origin(o) => (o.file.clone(), o.line, o.cont.clone()),
         _ => (None, 1, None),
     };
     let mut p = parser::Parser::new(Rc::from(text.as_str()), file, line).with_cont(cont);
