@@ -184,78 +184,110 @@ pub(crate) fn parse_index(v: &Value, len: usize) -> Result<i64, Exception> {
 
 /// Tcl's `string match` glob: `*`, `?`, `[a-z]`, `\x`.
 pub(crate) fn glob_match(pattern: &str, s: &str, nocase: bool) -> bool {
+    if pattern.is_ascii() && s.is_ascii() {
+        if !nocase {
+            return glob_rec(pattern.as_bytes(), s.as_bytes());
+        }
+        let p = pattern.to_ascii_lowercase();
+        let t = s.to_ascii_lowercase();
+        return glob_rec(p.as_bytes(), t.as_bytes());
+    }
     let fold = |c: char| if nocase { c.to_lowercase().next().unwrap_or(c) } else { c };
     let p: Vec<char> = pattern.chars().map(fold).collect();
     let t: Vec<char> = s.chars().map(fold).collect();
-    fn rec(p: &[char], t: &[char]) -> bool {
-        let (mut pi, mut ti) = (0, 0);
-        let mut star: Option<(usize, usize)> = None;
-        loop {
-            if pi < p.len() {
-                match p[pi] {
-                    '*' => {
-                        while pi < p.len() && p[pi] == '*' {
-                            pi += 1;
-                        }
-                        if pi == p.len() {
-                            return true;
-                        }
-                        star = Some((pi, ti));
-                        continue;
-                    }
-                    '?' if ti < t.len() => {
+    glob_rec(&p, &t)
+}
+
+/// A character of a glob match: a byte of ASCII text, or a `char`.
+trait GlobChar: Copy + Ord {
+    /// The ASCII character this is, if it is one.
+    fn kind(self) -> Option<u8>;
+}
+
+impl GlobChar for u8 {
+    #[inline]
+    fn kind(self) -> Option<u8> {
+        Some(self)
+    }
+}
+
+impl GlobChar for char {
+    #[inline]
+    fn kind(self) -> Option<u8> {
+        self.is_ascii().then_some(self as u8)
+    }
+}
+
+fn glob_rec<T: GlobChar>(p: &[T], t: &[T]) -> bool {
+    let (mut pi, mut ti) = (0, 0);
+    let mut star: Option<(usize, usize)> = None;
+    loop {
+        if pi < p.len() {
+            match p[pi].kind() {
+                Some(b'*') => {
+                    while pi < p.len() && p[pi].kind() == Some(b'*') {
                         pi += 1;
-                        ti += 1;
-                        continue;
                     }
-                    '[' if ti < t.len() => {
-                        let mut j = pi + 1;
-                        let mut matched = false;
-                        while j < p.len() && p[j] != ']' {
-                            let lo = p[j];
-                            let mut hi = lo;
-                            if j + 2 < p.len() && p[j + 1] == '-' && p[j + 2] != ']' {
-                                hi = p[j + 2];
-                                j += 2;
-                            }
-                            let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
-                            if a <= t[ti] && t[ti] <= b {
-                                matched = true;
-                            }
-                            j += 1;
-                        }
-                        if matched {
-                            pi = (j + 1).min(p.len());
-                            ti += 1;
-                            continue;
-                        }
+                    if pi == p.len() {
+                        return true;
                     }
-                    '\\' if pi + 1 < p.len() && ti < t.len() && p[pi + 1] == t[ti] => {
-                        pi += 2;
-                        ti += 1;
-                        continue;
-                    }
-                    c if c != '\\' && ti < t.len() && c == t[ti] => {
-                        pi += 1;
-                        ti += 1;
-                        continue;
-                    }
-                    _ => {}
+                    star = Some((pi, ti));
+                    continue;
                 }
-            } else if ti == t.len() {
-                return true;
-            }
-            match star {
-                Some((sp, st)) if st < t.len() => {
-                    star = Some((sp, st + 1));
-                    pi = sp;
-                    ti = st + 1;
+                Some(b'?') if ti < t.len() => {
+                    pi += 1;
+                    ti += 1;
+                    continue;
                 }
-                _ => return false,
+                Some(b'[') if ti < t.len() => {
+                    let mut j = pi + 1;
+                    let mut matched = false;
+                    while j < p.len() && p[j].kind() != Some(b']') {
+                        let lo = p[j];
+                        let mut hi = lo;
+                        if j + 2 < p.len()
+                            && p[j + 1].kind() == Some(b'-')
+                            && p[j + 2].kind() != Some(b']')
+                        {
+                            hi = p[j + 2];
+                            j += 2;
+                        }
+                        let (a, b) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+                        if a <= t[ti] && t[ti] <= b {
+                            matched = true;
+                        }
+                        j += 1;
+                    }
+                    if matched {
+                        pi = (j + 1).min(p.len());
+                        ti += 1;
+                        continue;
+                    }
+                }
+                Some(b'\\') if pi + 1 < p.len() && ti < t.len() && p[pi + 1] == t[ti] => {
+                    pi += 2;
+                    ti += 1;
+                    continue;
+                }
+                k if k != Some(b'\\') && ti < t.len() && p[pi] == t[ti] => {
+                    pi += 1;
+                    ti += 1;
+                    continue;
+                }
+                _ => {}
             }
+        } else if ti == t.len() {
+            return true;
+        }
+        match star {
+            Some((sp, st)) if st < t.len() => {
+                star = Some((sp, st + 1));
+                pi = sp;
+                ti = st + 1;
+            }
+            _ => return false,
         }
     }
-    rec(&p, &t)
 }
 
 /// Matches a unique prefix of one of `options` (Tcl's `Tcl_GetIndexFromObj`).

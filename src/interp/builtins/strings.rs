@@ -114,6 +114,14 @@ fn char_len(s: &str) -> usize {
     if s.is_ascii() { s.len() } else { s.chars().count() }
 }
 
+/// The byte offset of character `i` of `s` (its length past the end).
+fn byte_offset(s: &str, i: usize) -> usize {
+    if s.is_ascii() {
+        return i.min(s.len());
+    }
+    s.char_indices().nth(i).map_or(s.len(), |(b, _)| b)
+}
+
 /// Characters `first..=last` (clamped) as a value.
 fn char_range(s: &str, first: i64, last: i64) -> Value {
     let ascii = s.is_ascii();
@@ -173,19 +181,21 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
             if a.len() < 3 || a.len() > 4 {
                 return Err(usage("string first last ?string?"));
             }
-            let s = chars(a[0].as_str());
-            let n = s.len() as i64;
-            let f = parse_index(&a[1], s.len())?;
-            let l = parse_index(&a[2], s.len())?;
+            let s = a[0].as_str();
+            let len = char_len(s);
+            let n = len as i64;
+            let f = parse_index(&a[1], len)?;
+            let l = parse_index(&a[2], len)?;
             if l < f || l < 0 || f >= n {
                 return Ok(a[0].clone());
             }
             let (f, l) = (f.max(0) as usize, l.min(n - 1) as usize);
-            let mut out: String = s[..f].iter().collect();
-            if a.len() == 4 {
-                out.push_str(a[3].as_str());
-            }
-            out.extend(&s[l + 1..]);
+            let (bf, bl) = (byte_offset(s, f), byte_offset(s, l + 1));
+            let with = if a.len() == 4 { a[3].as_str() } else { "" };
+            let mut out = String::with_capacity(s.len() - (bl - bf) + with.len());
+            out.push_str(&s[..bf]);
+            out.push_str(with);
+            out.push_str(&s[bl..]);
             Ok(Value::from_string(out))
         }
         "toupper" | "tolower" | "totitle" => {
@@ -292,23 +302,29 @@ fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
             if a.len() < 2 || a.len() > 3 {
                 return Err(usage("needleString haystackString ?startIndex?"));
             }
-            let needle = chars(a[0].as_str());
-            let hay = chars(a[1].as_str());
-            let n = hay.len();
-            if needle.is_empty() || needle.len() > n {
+            let (needle, hay) = (a[0].as_str(), a[1].as_str());
+            let (nn, n) = (char_len(needle), char_len(hay));
+            if nn == 0 || nn > n {
                 return Ok(Value::from_int(-1));
             }
+            // Searched as UTF-8 (a match starts on a character), then the
+            // byte offset counted back into characters.
             let found = if sub == "first" {
                 let start = if a.len() == 3 { parse_index(&a[2], n)?.max(0) as usize } else { 0 };
-                (start..=n - needle.len()).find(|&i| hay[i..i + needle.len()] == needle[..])
+                if start > n - nn {
+                    None
+                } else {
+                    let b = byte_offset(hay, start);
+                    hay[b..].find(needle).map(|i| start + char_len(&hay[b..b + i]))
+                }
             } else {
                 let last = if a.len() == 3 { parse_index(&a[2], n)? } else { n as i64 - 1 };
                 // The whole match must lie at or before `last`.
-                let top = last.min(n as i64 - 1) + 1 - needle.len() as i64;
-                if top < 0 {
+                if last < 0 {
                     None
                 } else {
-                    (0..=top as usize).rev().find(|&i| hay[i..i + needle.len()] == needle[..])
+                    let end = byte_offset(hay, (last as usize + 1).min(n));
+                    hay[..end].rfind(needle).map(|i| char_len(&hay[..i]))
                 }
             };
             Ok(Value::from_int(found.map(|i| i as i64).unwrap_or(-1)))
