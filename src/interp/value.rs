@@ -78,6 +78,10 @@ pub(crate) enum Rep {
     /// A braced word straight from the parser: where it came from, so a proc
     /// or loop body defined in a file reports that file's line numbers.
     Origin(Box<Origin>),
+    /// The string is all ASCII: character `i` is byte `i`.
+    Ascii,
+    /// The string's characters, for indexing a non-ASCII string.
+    Chars(Rc<Vec<char>>),
 }
 
 /// Where a braced word came from (boxed: `Rep` stays two words, so a
@@ -167,6 +171,26 @@ impl Value {
         }))
     }
 
+    /// The string's characters by index: `None` when it is all ASCII
+    /// (index the bytes), else the characters. Cached on a plain string,
+    /// so `string index` in a loop does not rescan it.
+    pub(crate) fn char_table(&self) -> Option<Rc<Vec<char>>> {
+        match &*self.0.rep.borrow() {
+            Rep::Ascii => return None,
+            Rep::Chars(c) => return Some(c.clone()),
+            _ => {}
+        }
+        let s = self.as_str();
+        let table = (!s.is_ascii()).then(|| Rc::new(s.chars().collect::<Vec<char>>()));
+        if matches!(*self.0.rep.borrow(), Rep::None) {
+            *self.0.rep.borrow_mut() = match &table {
+                None => Rep::Ascii,
+                Some(c) => Rep::Chars(c.clone()),
+            };
+        }
+        table
+    }
+
     /// Whether both are the same value (not merely equal strings).
     #[inline]
     pub(crate) fn ptr_eq(&self, other: &Value) -> bool {
@@ -253,7 +277,8 @@ impl Value {
         }
         let n = number::parse_num(self.as_str())?;
         // Keep a list, script or expression cache; numbers are cheap to re-parse.
-        if matches!(&*self.0.rep.borrow(), Rep::None | Rep::Origin(..)) {
+        if matches!(&*self.0.rep.borrow(), Rep::None | Rep::Origin(..) | Rep::Ascii | Rep::Chars(_))
+        {
             self.set_rep(match &n {
                 Num::Int(i) => Rep::Int(*i),
                 Num::Double(d) => Rep::Double(*d),

@@ -122,19 +122,25 @@ fn byte_offset(s: &str, i: usize) -> usize {
     s.char_indices().nth(i).map_or(s.len(), |(b, _)| b)
 }
 
-/// Characters `first..=last` (clamped) as a value.
-fn char_range(s: &str, first: i64, last: i64) -> Value {
-    let ascii = s.is_ascii();
-    let len = if ascii { s.len() } else { s.chars().count() } as i64;
+/// Characters `first..=last` (clamped) of `v` as a value.
+fn char_range(v: &Value, first: i64, last: i64) -> Value {
+    let table = v.char_table();
+    let s = v.as_str();
+    let len = table.as_ref().map_or(s.len(), |t| t.len()) as i64;
     let f = first.max(0);
     let l = last.min(len - 1);
     if f > l {
         return Value::empty();
     }
-    if ascii {
-        return Value::from(&s[f as usize..=l as usize]);
+    match table {
+        None => Value::from(&s[f as usize..=l as usize]),
+        Some(t) => Value::from_string(t[f as usize..=l as usize].iter().collect()),
     }
-    Value::from_string(s.chars().skip(f as usize).take((l - f + 1) as usize).collect())
+}
+
+/// The number of characters of `v`.
+fn value_len(v: &Value) -> usize {
+    v.char_table().map_or(v.as_str().len(), |t| t.len())
 }
 
 /// `string length s` (`argv` has both words of the command's name; the
@@ -143,7 +149,7 @@ pub(crate) fn string_length(_: &mut Interp, argv: &[Value]) -> TclResult {
     if argv.len() != 3 {
         return Err(Exception::wrong_args("string length string"));
     }
-    Ok(Value::from_int(char_len(argv[2].as_str()) as i64))
+    Ok(Value::from_int(value_len(&argv[2]) as i64))
 }
 
 /// `string index s i`.
@@ -151,9 +157,8 @@ pub(crate) fn string_index(_: &mut Interp, argv: &[Value]) -> TclResult {
     if argv.len() != 4 {
         return Err(Exception::wrong_args("string index string charIndex"));
     }
-    let s = argv[2].as_str();
-    let i = parse_index(&argv[3], char_len(s))?;
-    Ok(char_range(s, i, i))
+    let i = parse_index(&argv[3], value_len(&argv[2]))?;
+    Ok(char_range(&argv[2], i, i))
 }
 
 /// `string range s first last`.
@@ -161,9 +166,8 @@ pub(crate) fn string_range(_: &mut Interp, argv: &[Value]) -> TclResult {
     if argv.len() != 5 {
         return Err(Exception::wrong_args("string range string first last"));
     }
-    let s = argv[2].as_str();
-    let n = char_len(s);
-    Ok(char_range(s, parse_index(&argv[3], n)?, parse_index(&argv[4], n)?))
+    let n = value_len(&argv[2]);
+    Ok(char_range(&argv[2], parse_index(&argv[3], n)?, parse_index(&argv[4], n)?))
 }
 
 fn cmd_string(interp: &mut Interp, argv: &[Value]) -> TclResult {
