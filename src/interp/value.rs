@@ -330,7 +330,6 @@ impl Value {
         })
     }
 
-    /// The value as a list (cached).
     /// The number of elements of the value as a list.
     #[inline]
     pub fn list_len(&self) -> Result<usize, Exception> {
@@ -340,6 +339,7 @@ impl Value {
         Ok(self.as_list()?.len())
     }
 
+    /// The value as a list (cached).
     pub fn as_list(&self) -> Result<Rc<Vec<Value>>, Exception> {
         if let Rep::List(l) = &*self.0.rep.borrow() {
             return Ok(l.clone());

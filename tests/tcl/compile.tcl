@@ -243,3 +243,6 @@ proc ae {} {
     return $r
 }
 puts [ae]
+# Expanded words in commands the compiler calls straight.
+proc p {} { set l {{a b}}; set m {x {y z}}; list [llength {*}$l] [list {*}$m q] [lindex {*}$l 1] [string length {*}$l] [catch {llength {*}$m} e] $e [join {*}$l -] }
+puts [p]
