@@ -1238,30 +1238,39 @@ impl Interp {
         self.get_var(&format!("{name}({})", key.as_str()))
     }
 
-    /// Sets element `key` of the local array in slot `i`, making the
-    /// array if the variable does not exist.
+    /// `f` on element `key` of the local array in slot `i`, made (and the
+    /// array with it) when it does not exist; `None` when the slot is
+    /// not a plain local array or a trace exists (the caller goes by name).
+    fn with_local_elem<R>(
+        &mut self,
+        i: u32,
+        key: &Value,
+        f: impl FnOnce(&mut Value) -> R,
+    ) -> Option<R> {
+        if !self.var_traces.is_empty() {
+            return None;
+        }
+        let slot = &mut self.frames[self.cur].slots[i as usize];
+        if let Slot::Empty = slot {
+            *slot = Slot::Cell(Rc::new(RefCell::new(Var::Undefined)));
+        }
+        let Slot::Cell(c) = slot else { return None };
+        let mut var = c.borrow_mut();
+        if let Var::Undefined = *var {
+            *var = Var::Array(super::eval::ArrayMap::default());
+        }
+        let Var::Array(m) = &mut *var else { return None };
+        let x = match m.get_mut(key.as_str()) {
+            Some(x) => x,
+            None => m.entry(key.as_str().to_string()).or_default(),
+        };
+        Some(f(x))
+    }
+
+    /// Sets element `key` of the local array in slot `i`.
     fn set_local_elem(&mut self, i: u32, name: &str, key: &Value, v: Value) -> TclResult {
-        if self.var_traces.is_empty() {
-            let slot = &mut self.frames[self.cur].slots[i as usize];
-            if let Slot::Empty = slot {
-                let array = Var::Array(super::eval::ArrayMap::default());
-                *slot = Slot::Cell(Rc::new(RefCell::new(array)));
-            }
-            if let Slot::Cell(c) = slot {
-                let mut var = c.borrow_mut();
-                if let Var::Undefined = *var {
-                    *var = Var::Array(super::eval::ArrayMap::default());
-                }
-                if let Var::Array(m) = &mut *var {
-                    match m.get_mut(key.as_str()) {
-                        Some(x) => *x = v.clone(),
-                        None => {
-                            m.insert(key.as_str().to_string(), v.clone());
-                        }
-                    }
-                    return Ok(v);
-                }
-            }
+        if self.with_local_elem(i, key, |x| *x = v.clone()).is_some() {
+            return Ok(v);
         }
         self.set_var(&format!("{name}({})", key.as_str()), v)
     }
@@ -1275,22 +1284,8 @@ impl Interp {
         key: &Value,
         f: &mut dyn FnMut(&mut Value) -> Result<(), Exception>,
     ) -> TclResult {
-        if self.var_traces.is_empty() {
-            let slot = &mut self.frames[self.cur].slots[i as usize];
-            if let Slot::Empty = slot {
-                let array = Var::Array(super::eval::ArrayMap::default());
-                *slot = Slot::Cell(Rc::new(RefCell::new(array)));
-            }
-            if let Slot::Cell(c) = slot
-                && let Var::Array(m) = &mut *c.borrow_mut()
-            {
-                let x = match m.get_mut(key.as_str()) {
-                    Some(x) => x,
-                    None => m.entry(key.as_str().to_string()).or_default(),
-                };
-                f(x)?;
-                return Ok(x.clone());
-            }
+        if let Some(r) = self.with_local_elem(i, key, |x| f(x).map(|()| x.clone())) {
+            return r;
         }
         self.update_var(&format!("{name}({})", key.as_str()), Some(Value::empty()), f)
     }
