@@ -40,7 +40,8 @@ pub(crate) const INLINE_OPS: &[&str] = &[
 ];
 
 /// The builtins that only compute a value from their words (they run no
-/// script and touch no variable): a compiled call to one goes straight to
+/// script; only `string is -failindex` sets a variable, by name, which
+/// finds the slot): a compiled call to one goes straight to
 /// its function, without the command table, a nesting level or a frame
 /// record (as Tcl compiles them to instructions).
 const DIRECT_OPS: &[&str] =

@@ -246,3 +246,8 @@ puts [ae]
 # Expanded words in commands the compiler calls straight.
 proc p {} { set l {{a b}}; set m {x {y z}}; list [llength {*}$l] [list {*}$m q] [lindex {*}$l 1] [string length {*}$l] [catch {llength {*}$m} e] $e [join {*}$l -] }
 puts [p]
+# string is -failindex, called straight, sets its variable (and its trace fires).
+proc p {} { set r [string is integer -failindex bad 12x]; list $r $bad [info locals] }
+puts [p]
+proc q {} { trace add variable w write {apply {args {puts traced}}}; string is integer -failindex w 1x; set w }
+puts [q]
