@@ -119,7 +119,11 @@ pub(crate) fn translate_eol(buf: &mut Vec<u8>, from: usize, after_cr: &mut bool)
     buf.truncate(w);
 }
 
-fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<Scanned>) {
+fn scan_windows(reader: Box<dyn Read + Send>, tx: SyncSender<Scanned>) {
+    // Closed as soon as it is read to the end, before the last window goes
+    // out: the script's file descriptor is free by the time its commands
+    // run (`open` names channels by descriptor, as Tcl does).
+    let mut reader = Some(reader);
     let mut buf: Vec<u8> = Vec::new();
     let mut after_cr = false;
     let mut eof = false;
@@ -136,9 +140,18 @@ fn scan_windows(reader: &mut (dyn Read + Send), tx: SyncSender<Scanned>) {
                 return;
             }
             let n0 = buf.len();
-            match reader.take(want as u64).read_to_end(&mut buf) {
+            let read = match reader.as_mut() {
+                Some(r) => r.take(want as u64).read_to_end(&mut buf),
+                None => Ok(0),
+            };
+            match read {
                 Ok(_) => {
                     eof = buf.len() == n0;
+                    // Fewer bytes than asked for: the reader is at its end
+                    // (the next round reads nothing and ends).
+                    if buf.len() - n0 < want {
+                        reader = None;
+                    }
                     translate_eol(&mut buf, n0, &mut after_cr);
                 }
                 Err(e) => {
@@ -229,16 +242,12 @@ impl Interp {
     /// reading thread is not waited for: on an interrupt it may be blocked
     /// in a read for ever (a pipe nobody writes to); it ends at its next
     /// window otherwise, finding the receiver gone.
-    pub fn eval_reader(
-        &mut self,
-        file: Option<&str>,
-        mut reader: Box<dyn Read + Send>,
-    ) -> TclResult {
+    pub fn eval_reader(&mut self, file: Option<&str>, reader: Box<dyn Read + Send>) -> TclResult {
         self.with_script_file(file, true, |interp, file| {
             let (tx, rx) = sync_channel(2);
             std::thread::Builder::new()
                 .name("scanner".into())
-                .spawn(move || scan_windows(&mut *reader, tx))
+                .spawn(move || scan_windows(reader, tx))
                 .map_err(|e| Exception::error(format!("couldn't start reading: {e}")))?;
             interp.run_batches(&rx, file)
         })
