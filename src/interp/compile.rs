@@ -872,9 +872,20 @@ impl Interp {
                     Op::Append(..) => super::builtins::append_strings,
                     _ => super::builtins::append_elements,
                 };
+                // One value (the usual `lappend l $x`, `append s $x`):
+                // moved in, no vector.
+                if let [w] = &words[..] {
+                    let mut one = Some(self.eval_word(w)?);
+                    let list = matches!(op, Op::Lappend(..));
+                    let mut push = |v: &mut Value| match one.take() {
+                        Some(x) if list => super::builtins::append_element(v, x),
+                        Some(x) => super::builtins::append_strings(v, &[x]),
+                        None => Ok(()),
+                    };
+                    return Ok(Outcome::Normal(self.update_local(*i, name, want, &mut push)?));
+                }
                 let vals = self.eval_words(words)?;
-                let v = self.update_local(*i, name, &mut |v| change(v, &vals))?;
-                Outcome::Normal(want.then_some(v))
+                Outcome::Normal(self.update_local(*i, name, want, &mut |v| change(v, &vals))?)
             }
             Op::Expr(e) => Outcome::Normal(Some(expr_result(self.ceval(e)?)?)),
             Op::If { arms, otherwise } => {
@@ -1301,7 +1312,7 @@ impl Interp {
             && let Ok(Num::Int(n)) = x.as_integer()
             && let Some(sum) = n.checked_add(by)
         {
-            *x = Value::from_int(sum);
+            x.set_int(sum);
             return Ok(x.clone());
         }
         self.incr_var(&format!("{name}({})", key.as_str()), by)
@@ -1404,8 +1415,9 @@ impl Interp {
         &mut self,
         i: u32,
         name: &str,
+        want: bool,
         f: &mut dyn FnMut(&mut Value) -> Result<(), Exception>,
-    ) -> TclResult {
+    ) -> Result<Option<Value>, Exception> {
         if self.var_traces.is_empty() {
             let slot = &mut self.frames[self.cur].slots[i as usize];
             match slot {
@@ -1416,18 +1428,18 @@ impl Interp {
             match slot {
                 Slot::Val(v) => {
                     f(v)?;
-                    return Ok(v.clone());
+                    return Ok(want.then(|| v.clone()));
                 }
                 Slot::Cell(c) => {
                     if let Var::Scalar(v) = &mut *c.borrow_mut() {
                         f(v)?;
-                        return Ok(v.clone());
+                        return Ok(want.then(|| v.clone()));
                     }
                 }
                 _ => {}
             }
         }
-        self.update_var(name, Some(Value::empty()), f)
+        self.update_var(name, Some(Value::empty()), f).map(|v| want.then_some(v))
     }
 }
 

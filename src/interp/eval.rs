@@ -1063,7 +1063,7 @@ impl Interp {
             }
             Word::Compiled(b) => self.run_nested(b),
             Word::Concat(parts) => {
-                let mut out = String::new();
+                let mut out = compact_str::CompactString::const_new("");
                 for p in parts {
                     let v;
                     let piece = match p {
@@ -1084,7 +1084,7 @@ impl Interp {
                     check_len(out.len() + piece.len())?;
                     out.push_str(piece);
                 }
-                Ok(Value::from_string(out))
+                Ok(Value::from_compact(out))
             }
             Word::Expand(inner) => self.eval_word_tree(inner),
         }

@@ -130,6 +130,11 @@ impl Value {
         }))
     }
 
+    /// A string built in place (short ones never touch the heap).
+    pub(crate) fn from_compact(s: CompactString) -> Value {
+        Value(Rc::new(Inner { string: OnceCell::from(s), rep: RefCell::new(Rep::None) }))
+    }
+
     pub fn from_int(i: i64) -> Value {
         Value(Rc::new(Inner { string: OnceCell::new(), rep: RefCell::new(Rep::Int(i)) }))
     }
@@ -374,6 +379,30 @@ impl Value {
         v.extend_from_slice(extra);
         *self = Value::from_list(v);
         Ok(())
+    }
+
+    /// Makes this value the integer `i`, reusing its allocation when
+    /// nothing else holds it (`incr` of an array element in a loop).
+    #[inline]
+    pub(crate) fn set_int(&mut self, i: i64) {
+        if let Some(inner) = Rc::get_mut(&mut self.0) {
+            inner.string = OnceCell::new();
+            *inner.rep.get_mut() = Rep::Int(i);
+            return;
+        }
+        *self = Value::from_int(i);
+    }
+
+    /// [`Value::list_append`] of one element, moved in.
+    pub fn list_push(&mut self, x: Value) -> Result<(), Exception> {
+        if let Some(inner) = Rc::get_mut(&mut self.0)
+            && let Rep::List(l) = inner.rep.get_mut()
+        {
+            Rc::make_mut(l).push(x);
+            inner.string.take();
+            return Ok(());
+        }
+        self.list_append(std::slice::from_ref(&x))
     }
 
     /// The integer or double this value is when it has no string form

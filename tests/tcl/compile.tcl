@@ -251,3 +251,18 @@ proc p {} { set r [string is integer -failindex bad 12x]; list $r $bad [info loc
 puts [p]
 proc q {} { trace add variable w write {apply {args {puts traced}}}; string is integer -failindex w 1x; set w }
 puts [q]
+# One-word append and lappend (moved in), incr of an array element in
+# place: a value another variable holds is never changed.
+proc one {} {
+    set l {a b}; set keep $l; lappend l c; append s x; set t $s; append s y
+    set a(k) 5; set b $a(k); incr a(k) 2; incr a(k); set c $a(k); incr a(k)
+    lappend r $l $keep $s $t $a(k) $b $c [lappend u [list 1 2]] [llength $u]
+    set n 7; lappend n 8; set m 1.5; append m 0
+    set e "x \{"; lappend r [catch {lappend e z} msg] $msg $n $m
+    trace add variable w write {apply {args {puts w-traced}}}
+    lappend w 1; append w 2; lappend r $w
+    set q(k) 1; trace add variable q read {apply {args {puts q-read}}}; incr q(k) 3
+    lappend r $q(k) "key[expr {2 * 3}]$n" "[string repeat ab 20][set n]"
+    return $r
+}
+puts [one]

@@ -99,6 +99,12 @@ pub(crate) fn append_elements(v: &mut Value, extra: &[Value]) -> Result<(), Exce
     v.list_append(extra)
 }
 
+/// `lappend`'s change for one element, moved in.
+pub(crate) fn append_element(v: &mut Value, x: Value) -> Result<(), Exception> {
+    check_list_len(v.list_len()? + 3)?;
+    v.list_push(x)
+}
+
 fn cmd_linsert(_: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 3, usize::MAX, "list index ?element ...?")?;
     let mut items = argv[1].as_list()?.to_vec();
