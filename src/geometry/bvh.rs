@@ -361,6 +361,14 @@ impl Bvh {
         }
     }
 
+    /// The material of primitive `prim` when it is a triangle or a sphere
+    /// of this tree (`None`: an object, whose material lies inside it).
+    #[inline]
+    pub fn own_material(&self, prim: u32) -> Option<u32> {
+        let rec = &self.recs[prim as usize];
+        (rec.at & blocks::OBJECT == 0 && !self.unbounded.contains(&prim)).then_some(rec.material)
+    }
+
     /// The material of primitive `prim`.
     pub fn material(&self, prim: u32) -> u32 {
         self.recs[prim as usize].material

@@ -52,8 +52,11 @@ pub fn linear_bytes_to_srgb(rgb: &[u8]) -> Vec<u8> {
     rgb.iter().map(|&b| to_byte(b as f32 / 255.0, Encoding::Srgb)).collect()
 }
 
+#[inline(always)]
 fn to_byte(v: f32, enc: Encoding) -> u8 {
-    let v = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+    // No branch for NaN: it stays NaN through the curve, and `as u8` makes
+    // it 0.
+    let v = v.clamp(0.0, 1.0);
     let v = match enc {
         Encoding::Linear => v,
         Encoding::Srgb => {
@@ -76,11 +79,19 @@ impl Image {
         self.pixels[y as usize * self.width as usize + x as usize]
     }
 
+    /// The picture in bytes, rows in parallel.
     pub fn to_rgb8(&self, enc: Encoding) -> Vec<u8> {
-        let mut out = Vec::with_capacity(self.pixels.len() * 3);
-        for p in &self.pixels {
-            out.extend([to_byte(p.x, enc), to_byte(p.y, enc), to_byte(p.z, enc)]);
-        }
+        use rayon::prelude::*;
+        let mut out = vec![0u8; self.pixels.len() * 3];
+        let w = (self.width as usize).max(1);
+        let convert = |(o, px): (&mut [u8], &[Vec3])| {
+            for (o, p) in o.chunks_exact_mut(3).zip(px) {
+                o.copy_from_slice(&[to_byte(p.x, enc), to_byte(p.y, enc), to_byte(p.z, enc)]);
+            }
+        };
+        // Bands of rows of about 64k pixels each.
+        let rows = (65536 / w).max(1);
+        out.par_chunks_mut(3 * w * rows).zip(self.pixels.par_chunks(w * rows)).for_each(convert);
         out
     }
 
@@ -539,5 +550,27 @@ mod tests {
         assert_eq!((w, h), (2, 1));
         assert_eq!(rgb, vec![255, 128, 0, 0, 0, 255]);
         assert_eq!(to_byte(0.5, Encoding::Srgb), 188);
+        for enc in [Encoding::Linear, Encoding::Srgb] {
+            assert_eq!(to_byte(f32::NAN, enc), 0);
+            assert_eq!(to_byte(f32::INFINITY, enc), 255);
+            assert_eq!(to_byte(f32::NEG_INFINITY, enc), 0);
+        }
+    }
+
+    /// The bytes come out in pixel order across the parallel bands (here
+    /// 300 rows: two bands of 218 and 82).
+    #[test]
+    fn bytes_keep_pixel_order_across_bands() {
+        let mut img = Image::new(300, 300);
+        for (k, p) in img.pixels.iter_mut().enumerate() {
+            *p = Vec3::new((k % 256) as f32 / 255.0, (k / 300) as f32 / 299.0, 0.5);
+        }
+        let rgb = img.to_rgb8(Encoding::Srgb);
+        let want: Vec<u8> = img
+            .pixels
+            .iter()
+            .flat_map(|p| [p.x, p.y, p.z].map(|v| to_byte(v, Encoding::Srgb)))
+            .collect();
+        assert_eq!(rgb, want);
     }
 }

@@ -93,21 +93,81 @@ fn tiles(r: Rect) -> Vec<(u32, u32)> {
         .collect()
 }
 
-/// Runs `f` for every pixel of the job's rectangle, in parallel over tiles,
-/// writing into `out` (rectangle-sized, row-major). `None` if cancelled.
-/// The result does not depend on the number of threads, the order tiles
-/// finish in, or the passes.
+/// Where `per_pixel` puts the pixels' values (rectangle-sized, row-major).
+pub(crate) enum Out<'a, T> {
+    /// The caller's own buffer: written in place, each thread on its own
+    /// band of rows, with no lock and no copy.
+    Own(&'a mut [T]),
+    /// A buffer another thread looks at while the render runs (the
+    /// preview): each tile is written under its lock when it finishes.
+    Shared(&'a Mutex<Vec<T>>),
+}
+
+/// Rows per band of an `Out::Own` render: a tile's height, or fewer when
+/// the picture is short, so that every thread gets several bands.
+fn band_rows(height: u32) -> u32 {
+    let threads = rayon::current_num_threads().max(1) as u32;
+    (height / (4 * threads)).clamp(1, TILE)
+}
+
+/// Runs `f` for every pixel of the job's rectangle, in parallel, writing
+/// into `out`. `None` if cancelled. The result does not depend on the
+/// number of threads, the order tiles finish in, or the passes.
 pub(crate) fn per_pixel<T: Send + Copy>(
     width: u32,
     height: u32,
     job: &Job,
-    out: &Mutex<Vec<T>>,
+    out: Out<T>,
     f: impl Fn(u32, u32, &mut RayStats) -> T + Sync,
 ) -> Option<RayStats> {
     let r = job.rect(width, height);
-    let tiles = tiles(r);
     let passes: &[u32] = if job.progressive { &PASSES } else { &[1] };
     let mut stats = RayStats::default();
+    let out = match out {
+        Out::Own(buf) => {
+            debug_assert_eq!(buf.len() as u64, r.pixels());
+            let w = r.width() as usize;
+            let rows = band_rows(r.height());
+            for &s in passes {
+                let pass_stats = buf
+                    .par_chunks_mut((w * rows as usize).max(1))
+                    .enumerate()
+                    .map(|(band, px)| {
+                        let mut st = RayStats::default();
+                        let y0 = r.y0 + band as u32 * rows;
+                        let y1 = (y0 + rows).min(r.y1);
+                        // Tile by tile along the band, for coherent rays.
+                        for tx in (r.x0..r.x1).step_by(TILE as usize) {
+                            let x1 = (tx + TILE).min(r.x1);
+                            let mut n = 0;
+                            for y in y0..y1 {
+                                if job.cancelled() {
+                                    return st;
+                                }
+                                let row = &mut px[(y - y0) as usize * w..][..w];
+                                for x in tx..x1 {
+                                    if in_pass(x, y, s, passes[0]) {
+                                        row[(x - r.x0) as usize] = f(x, y, &mut st);
+                                        n += 1;
+                                    }
+                                }
+                            }
+                            job.done.fetch_add(n, Ordering::Relaxed);
+                        }
+                        st
+                    })
+                    .reduce(RayStats::default, RayStats::add);
+                stats = stats.add(pass_stats);
+                if job.cancelled() {
+                    return None;
+                }
+                job.pass_done.store(s as u64, Ordering::Relaxed);
+            }
+            return Some(stats);
+        }
+        Out::Shared(m) => m,
+    };
+    let tiles = tiles(r);
     for &s in passes {
         let pass_stats = tiles
             .par_iter()
@@ -125,11 +185,7 @@ pub(crate) fn per_pixel<T: Send + Copy>(
                         }
                     }
                 }
-                let mut o = out.lock().unwrap_or_else(|e| e.into_inner());
-                for &(x, y, v) in &done {
-                    o[((y - r.y0) * r.width() + (x - r.x0)) as usize] = v;
-                }
-                drop(o);
+                put(out, r, &done);
                 job.done.fetch_add(done.len() as u64, Ordering::Relaxed);
                 st
             })
@@ -141,6 +197,21 @@ pub(crate) fn per_pixel<T: Send + Copy>(
         job.pass_done.store(s as u64, Ordering::Relaxed);
     }
     Some(stats)
+}
+
+/// Where a finished tile's pixels go: (x, y, value) each.
+type Sink<'a, T> = &'a (dyn Fn(&[(u32, u32, T)]) + Sync);
+
+/// Writes a finished tile's pixels into a shared buffer.
+fn put<T: Copy, V: std::ops::DerefMut<Target = [T]>>(
+    out: &Mutex<V>,
+    r: Rect,
+    done: &[(u32, u32, T)],
+) {
+    let mut o = out.lock().unwrap_or_else(|e| e.into_inner());
+    for &(x, y, v) in done {
+        o[((y - r.y0) * r.width() + (x - r.x0)) as usize] = v;
+    }
 }
 
 /// A pixel of a sample-progressive render: its state between passes, and
@@ -164,7 +235,7 @@ pub(crate) fn per_pixel_passes<S: Default + Send, T: Send + Copy>(
     width: u32,
     height: u32,
     job: &Job,
-    out: &Mutex<Vec<T>>,
+    out: Out<T>,
     (progressive, expected): (bool, u32),
     f: impl Fn(u32, u32, &mut S, u32, &mut RayStats) -> (T, bool) + Sync,
 ) -> Option<RayStats> {
@@ -174,6 +245,15 @@ pub(crate) fn per_pixel_passes<S: Default + Send, T: Send + Copy>(
         });
     }
     let r = job.rect(width, height);
+    // Tiles finish in any order and pass by pass: each writes under a lock.
+    let own;
+    let out: Sink<T> = match out {
+        Out::Own(buf) => {
+            own = Mutex::new(buf);
+            &|done| put(&own, r, done)
+        }
+        Out::Shared(m) => &move |done| put(m, r, done),
+    };
     // Each tile's corner and its pixels' states.
     type Tile<S> = ((u32, u32), Vec<Kept<S>>);
     let mut tiles: Vec<Tile<S>> = tiles(r)
@@ -215,11 +295,7 @@ pub(crate) fn per_pixel_passes<S: Default + Send, T: Send + Copy>(
                         done.push((x, y, v));
                     }
                 }
-                let mut o = out.lock().unwrap_or_else(|e| e.into_inner());
-                for &(x, y, v) in &done {
-                    o[((y - r.y0) * r.width() + (x - r.x0)) as usize] = v;
-                }
-                drop(o);
+                out(&done);
                 job.done.fetch_add(share(kept.len()), Ordering::Relaxed);
                 (st, left)
             })
@@ -241,6 +317,40 @@ pub(crate) fn per_pixel_passes<S: Default + Send, T: Send + Copy>(
 mod tests {
     use super::*;
 
+    /// Bands in place and tiles under a lock give the same buffer: every
+    /// pixel of the rectangle written once, with its own value, cropped or
+    /// not, in passes or not, on a picture short enough for 1-row bands.
+    #[test]
+    fn bands_and_tiles_write_the_same_pixels() {
+        let (w, h) = (53u32, 37u32);
+        let crop = Rect { x0: 5, y0: 3, x1: 50, y1: 36 };
+        for (progressive, crop, height) in [
+            (false, None, h),
+            (true, None, h),
+            (false, Some(crop), h),
+            (true, Some(crop), h),
+            (false, None, 3),
+        ] {
+            let job = |progressive| Job { progressive, crop, ..Job::default() };
+            let r = job(progressive).rect(w, height);
+            let f = |x: u32, y: u32, st: &mut RayStats| {
+                st.primary += 1;
+                x * 1000 + y
+            };
+            let own_job = job(progressive);
+            let mut own = vec![0u32; r.pixels() as usize];
+            let a = per_pixel(w, height, &own_job, Out::Own(&mut own), f).unwrap();
+            let shared = Mutex::new(vec![0u32; r.pixels() as usize]);
+            let b = per_pixel(w, height, &job(progressive), Out::Shared(&shared), f).unwrap();
+            let want: Vec<u32> =
+                (r.y0..r.y1).flat_map(|y| (r.x0..r.x1).map(move |x| x * 1000 + y)).collect();
+            assert_eq!(own, want);
+            assert_eq!(shared.into_inner().unwrap(), want);
+            assert_eq!((a.primary, b.primary), (r.pixels(), r.pixels()));
+            assert_eq!(own_job.done.load(Ordering::Relaxed), r.pixels());
+        }
+    }
+
     /// Progressive sample passes: every pixel gets its first ray before any
     /// gets a second pass, then 4, 16... rays in all, until each says it is
     /// finished (never asked again after); the values written are the last.
@@ -248,23 +358,28 @@ mod tests {
     fn sample_passes_advance_every_pixel_in_turn() {
         let (w, h) = (37u32, 21u32);
         let job = Job { progressive: true, ..Job::default() };
-        let out = Mutex::new(vec![0u32; (w * h) as usize]);
+        let mut out = vec![0u32; (w * h) as usize];
         let calls = Mutex::new(Vec::new());
         // Pixel x finishes at 16 rays, or at 4 for odd x.
-        let stats =
-            per_pixel_passes(w, h, &job, &out, (true, 16), |x, y, rays: &mut u32, until, _| {
+        let stats = per_pixel_passes(
+            w,
+            h,
+            &job,
+            Out::Own(&mut out),
+            (true, 16),
+            |x, y, rays: &mut u32, until, _| {
                 let end = if x % 2 == 1 { 4 } else { 16 };
                 *rays = until.min(end);
                 calls.lock().unwrap().push((until, x, y));
                 (*rays, *rays == end)
-            });
+            },
+        );
         assert!(stats.is_some());
         let calls = calls.into_inner().unwrap();
         let untils: Vec<u32> = calls.iter().map(|c| c.0).collect();
         assert!(untils.windows(2).all(|p| p[0] <= p[1]), "passes in order");
         let count = |u: u32| untils.iter().filter(|&&v| v == u).count() as u32;
         assert_eq!([count(1), count(4), count(16), count(64)], [w * h, w * h, 19 * h, 0]);
-        let out = out.into_inner().unwrap();
         assert!((0..w * h).all(|i| out[i as usize] == if i % w % 2 == 1 { 4 } else { 16 }));
         assert_eq!(job.done.load(Ordering::Relaxed), (w * h) as u64);
         assert_eq!(job.pass_done.load(Ordering::Relaxed), 1);

@@ -20,8 +20,21 @@ pub fn mix(mut z: u64) -> u64 {
 /// The key of one pixel's random numbers in one frame.
 #[inline]
 pub fn pixel_key(s: &Sampling, pixel: u64) -> u64 {
+    key_of_pixel(frame_key(s), pixel)
+}
+
+/// The part of `pixel_key` shared by every pixel of a frame (worked out
+/// once per render).
+#[inline]
+pub fn frame_key(s: &Sampling) -> u64 {
     let seeds = mix(s.seed ^ 0x9e37_79b9_7f4a_7c15) ^ mix(s.base_seed ^ 0x2545_f491_4f6c_dd1d);
-    mix(mix(seeds ^ s.frame as u64) ^ pixel)
+    mix(seeds ^ s.frame as u64)
+}
+
+/// `pixel_key` from the frame's `frame_key`.
+#[inline]
+pub fn key_of_pixel(frame: u64, pixel: u64) -> u64 {
+    mix(frame ^ pixel)
 }
 
 /// Two numbers in [0, 1) for stratum `k` of shading dimension `dim` of a

@@ -21,9 +21,8 @@
 //! ch. 4), so coarse meshes show no facet-shaped notches.
 
 use glam::Vec3;
-use std::sync::Mutex;
 
-use super::job::{Job, per_pixel, per_pixel_passes};
+use super::job::{Job, Out, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
 use crate::geometry::{Hit, Local, Located, Ray, ShadowHit, Triangle, intersect_brute};
 use crate::image::Image;
@@ -172,11 +171,14 @@ impl Media {
 pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let cam = &scene.camera;
     let r = job.rect(cam.width, cam.height);
-    let own = match job.canvas {
-        Some(_) => None,
-        None => Some(Mutex::new(vec![Vec3::ZERO; r.pixels() as usize])),
+    let mut own = match job.canvas {
+        Some(_) => Vec::new(),
+        None => vec![Vec3::ZERO; r.pixels() as usize],
     };
-    let out = job.canvas.or(own.as_ref()).expect("one of the two");
+    let out = match job.canvas {
+        Some(c) => Out::Shared(c),
+        None => Out::Own(&mut own),
+    };
     let sampling = &scene.sampling;
     let table = FilterTable::new(sampling.filter);
     let sampled = sampling.samples > 1
@@ -199,17 +201,18 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
             |x, y, p: &mut Pixel, until, st| p.advance(scene, &table, (x, y), until, st),
         )?
     } else {
+        let frame = sample::frame_key(sampling);
         per_pixel(cam.width, cam.height, job, out, |x, y, st| {
             // The pixel centre, as COS 426 traces it.
-            st.start(sample::pixel_key(sampling, y as u64 * cam.width as u64 + x as u64));
+            st.start(sample::key_of_pixel(frame, y as u64 * cam.width as u64 + x as u64));
             let ray = cam.ray(x, y).at_time(sampling.shutter[0]);
             camera_ray(scene, &ray, st)
         })?
     };
     // The picture itself, not a copy of it (64 Mpixel are 768 MiB).
-    let pixels = match own {
-        Some(m) => m.into_inner().unwrap_or_else(|e| e.into_inner()),
-        None => out.lock().unwrap_or_else(|e| e.into_inner()).clone(),
+    let pixels = match job.canvas {
+        None => own,
+        Some(c) => c.lock().unwrap_or_else(|e| e.into_inner()).clone(),
     };
     Some((Image { width: r.width(), height: r.height(), pixels }, stats))
 }
@@ -348,15 +351,14 @@ pub fn apply_look(sampling: &crate::scene::Sampling, img: &mut Image) {
 pub fn render_heatmap(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
     let cam = &scene.camera;
     let r = job.rect(cam.width, cam.height);
-    let out = Mutex::new(vec![0u32; r.pixels() as usize]);
-    let stats = per_pixel(cam.width, cam.height, job, &out, |x, y, st| {
+    let mut counts = vec![0u32; r.pixels() as usize];
+    let stats = per_pixel(cam.width, cam.height, job, Out::Own(&mut counts), |x, y, st| {
         st.primary += 1;
         let ray = cam.ray(x, y).at_time(scene.sampling.shutter[0]);
         let (_, steps) = scene.intersect(&ray);
         st.bvh_steps += steps as u64;
         steps
     })?;
-    let counts = out.into_inner().unwrap_or_else(|e| e.into_inner());
     let max = counts.iter().copied().max().unwrap_or(1).max(1) as f32;
     let ramp = [
         Vec3::ZERO,
@@ -384,10 +386,10 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
     let job = Job::default();
     // The buffers are made (and their pages touched) before the clock
     // starts, as scripts/embree_bench.c does: only tracing is timed.
-    let hits = Mutex::new(vec![Vec3::NAN; cam.width as usize * cam.height as usize]);
-    let blocked = Mutex::new(vec![0u8; cam.width as usize * cam.height as usize]);
+    let mut hits = vec![Vec3::NAN; cam.width as usize * cam.height as usize];
+    let mut blocked = vec![0u8; cam.width as usize * cam.height as usize];
     let start = std::time::Instant::now();
-    let mut stats = per_pixel(cam.width, cam.height, &job, &hits, |x, y, st| {
+    let mut stats = per_pixel(cam.width, cam.height, &job, Out::Own(&mut hits), |x, y, st| {
         st.primary += 1;
         let ray = cam.ray(x, y).at_time(scene.sampling.shutter[0]);
         let (hit, steps) = scene.intersect(&ray);
@@ -395,14 +397,13 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
         hit.map(|h| ray.at(h.t)).unwrap_or(Vec3::NAN)
     })
     .unwrap_or_default();
-    let hits = hits.into_inner().unwrap_or_else(|e| e.into_inner());
     let primary_s = start.elapsed().as_secs_f64();
     let Some(light) = scene.lights.first().filter(|_| shadow) else {
         return (primary_s, 0.0, stats);
     };
     let start = std::time::Instant::now();
     let w = cam.width;
-    let st2 = per_pixel(cam.width, cam.height, &job, &blocked, |x, y, st| {
+    let st2 = per_pixel(cam.width, cam.height, &job, Out::Own(&mut blocked), |x, y, st| {
         let p = hits[(y * w + x) as usize];
         if p.is_nan() {
             return 0u8;
@@ -474,14 +475,16 @@ pub fn trace(
     let (hit, steps) = scene.intersect(ray);
     st.bvh_steps += steps as u64;
     // Lights with a size are seen where nothing nearer is.
-    let nearest = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
-    let seen = scene
-        .emitters
-        .iter()
-        .filter_map(|l| l.hit(ray, nearest))
-        .min_by(|a, b| a.0.total_cmp(&b.0));
-    if let Some((_, radiance)) = seen {
-        return radiance;
+    if !scene.emitters.is_empty() {
+        let nearest = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+        let seen = scene
+            .emitters
+            .iter()
+            .filter_map(|l| l.hit(ray, nearest))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((_, radiance)) = seen {
+            return radiance;
+        }
     }
     match hit {
         Some(h) => shade(scene, ray, &h, depth, weight, media, st),
@@ -578,6 +581,16 @@ fn shade(
     media: Media,
     st: &mut RayStats,
 ) -> Vec3 {
+    // Lit by the ambient light alone, with nothing to reflect, refract,
+    // texture or emit: the colour needs no geometry (a primary-only
+    // render; the same value the full path below gives).
+    if scene.lights.is_empty()
+        && let Some(k) = scene.bvh.own_material(hit.prim)
+        && let m = &scene.materials[k as usize]
+        && m.is_flat()
+    {
+        return m.ka * scene.ambient * m.color;
+    }
     let at = scene.locate(ray, hit);
     let material = at.material;
     let m = &scene.materials[material as usize];

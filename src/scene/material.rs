@@ -74,6 +74,19 @@ impl Default for Material {
 }
 
 impl Material {
+    /// Plain colour only: no texture, bump, anisotropic highlight,
+    /// reflection, transmission or emission (so without lights it shades
+    /// to `ka * ambient * color`).
+    #[inline]
+    pub(crate) fn is_flat(&self) -> bool {
+        self.texture.is_none()
+            && self.bump.is_none()
+            && !matches!(self.highlight, Highlight::Ward { .. })
+            && self.ks == 0.0
+            && self.t == 0.0
+            && self.emission == Vec3::ZERO
+    }
+
     pub(crate) fn check(&self) -> Result<(), SceneError> {
         check_color(self.color)?;
         for (name, v) in
