@@ -429,7 +429,9 @@ impl Bvh {
         // The scene number of `best`, looked up only when a tie needs it.
         let mut best_id: Option<u32> = None;
         let mut t_max = t_max;
-        let pre = Pre4::new(ray, &RayPre::new(ray.dir));
+        // The triangle test's per-ray constants, made at the first leaf
+        // (many camera rays reach none).
+        let mut pre: Option<Pre4> = None;
         let id = |prim: u32| self.recs[prim as usize].id;
         let mut consider = |hit: Hit, t_max: &mut f32| {
             let better = match best {
@@ -459,30 +461,32 @@ impl Bvh {
         if !self.unbounded.is_empty() {
             self.objects_hit(&self.unbounded, ray, t_min, &mut t_max, &mut consider);
         }
-        let steps = self.traverse(ray, t_min, &mut t_max, |tris, spheres, objects, t_max| {
-            for b in tris {
-                let (mut mask, t, [u, v, w]) = b.triangles(&pre, t_min, *t_max);
-                while mask != 0 {
-                    let l = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let det = u[l] + v[l] + w[l];
-                    let uv = [v[l] / det, w[l] / det];
-                    consider(Hit { t: t[l], prim: b.prim[l], uv, sub: 0 }, t_max);
+        let steps =
+            self.traverse::<true>(ray, t_min, &mut t_max, |tris, spheres, objects, t_max| {
+                for b in tris {
+                    let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
+                    let (mut mask, t, [u, v, w]) = b.triangles(pre, t_min, *t_max);
+                    while mask != 0 {
+                        let l = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        let det = u[l] + v[l] + w[l];
+                        let uv = [v[l] / det, w[l] / det];
+                        consider(Hit { t: t[l], prim: b.prim[l], uv, sub: 0 }, t_max);
+                    }
                 }
-            }
-            for b in spheres {
-                let (mut mask, t) = b.spheres(ray, t_min, *t_max);
-                while mask != 0 {
-                    let l = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    consider(Hit { t: t[l], prim: b.prim[l], uv: [0.0; 2], sub: 0 }, t_max);
+                for b in spheres {
+                    let (mut mask, t) = b.spheres(ray, t_min, *t_max);
+                    while mask != 0 {
+                        let l = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        consider(Hit { t: t[l], prim: b.prim[l], uv: [0.0; 2], sub: 0 }, t_max);
+                    }
                 }
-            }
-            for b in objects {
-                self.objects_hit(&b.prim, ray, t_min, t_max, &mut consider);
-            }
-            false
-        });
+                for b in objects {
+                    self.objects_hit(&b.prim, ray, t_min, t_max, &mut consider);
+                }
+                false
+            });
         (best, steps)
     }
 
@@ -505,7 +509,7 @@ impl Bvh {
         let start = Ray { origin: ray.at(back), ..*ray };
         let pre = Pre4::new(&start, &RayPre::new(start.dir));
         let mut t_end = f32::INFINITY;
-        self.traverse(&start, 0.0, &mut t_end, |tris, spheres, _, t_max| {
+        self.traverse::<false>(&start, 0.0, &mut t_end, |tris, spheres, _, t_max| {
             for b in tris {
                 let (mut mask, t, _) = b.triangles(&pre, 0.0, *t_max);
                 while mask != 0 {
@@ -584,11 +588,12 @@ impl Bvh {
             }
         }
         let mut t_end = t_max;
-        let pre = Pre4::new(ray, &RayPre::new(ray.dir));
+        let mut pre: Option<Pre4> = None;
         let material = |prim: u32| self.recs[prim as usize].material;
-        self.traverse(ray, t_min, &mut t_end, |tris, spheres, objects, t_max| {
+        self.traverse::<false>(ray, t_min, &mut t_end, |tris, spheres, objects, t_max| {
             for b in tris {
-                let (mut mask, t, [u, v, w]) = b.triangles(&pre, t_min, *t_max);
+                let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
+                let (mut mask, t, [u, v, w]) = b.triangles(pre, t_min, *t_max);
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
@@ -636,8 +641,12 @@ impl Bvh {
     /// current `t_max`, which it may shorten); `leaf` returning true stops
     /// the walk. Returns the number of steps: nodes entered (a leaf counts
     /// as one) plus blocks tested.
+    ///
+    /// `NEAR_FIRST`: children in order of entry (the closest hit's walk,
+    /// whose `t_max` shrinks as hits are found); without it, in slot order
+    /// with no sorting (an any-hit walk, whose segment never shortens).
     #[inline]
-    fn traverse(
+    fn traverse<const NEAR_FIRST: bool>(
         &self,
         ray: &Ray,
         t_min: f32,
@@ -652,13 +661,13 @@ impl Bvh {
         // use, so a walk inside a walk would simply start a new one).
         let mut stack = STACK.take();
         stack.clear();
-        let steps = self.walk(&mut stack, ray, t_min, t_max, leaf);
+        let steps = self.walk::<NEAR_FIRST>(&mut stack, ray, t_min, t_max, leaf);
         STACK.set(stack);
         steps
     }
 
     #[inline(always)]
-    fn walk(
+    fn walk<const NEAR_FIRST: bool>(
         &self,
         stack: &mut Vec<Entry>,
         ray: &Ray,
@@ -696,6 +705,18 @@ impl Bvh {
                     let a = entry(mask.trailing_zeros());
                     mask &= mask - 1;
                     if mask == 0 {
+                        current = a;
+                        continue;
+                    }
+                    if !NEAR_FIRST {
+                        // The first child now, the others after it.
+                        if stack.len() > 3 * self.depth + 4 {
+                            return steps;
+                        }
+                        while mask != 0 {
+                            stack.push(entry(mask.trailing_zeros()));
+                            mask &= mask - 1;
+                        }
                         current = a;
                         continue;
                     }
