@@ -393,6 +393,47 @@ impl Value {
         *self = Value::from_int(i);
     }
 
+    /// This value's elements to change in place (`lset`, `lreplace` of an
+    /// unshared list): copied only when another value shares them. The
+    /// string form goes; the list is the value now.
+    pub(crate) fn list_items_mut(&mut self) -> Result<&mut Vec<Value>, Exception> {
+        let unique_list = Rc::get_mut(&mut self.0)
+            .is_some_and(|inner| matches!(inner.rep.get_mut(), Rep::List(_)));
+        if !unique_list {
+            let items = self.as_list()?;
+            *self = Value(Rc::new(Inner {
+                string: OnceCell::new(),
+                rep: RefCell::new(Rep::List(items)),
+            }));
+        }
+        let inner = Rc::get_mut(&mut self.0).expect("made unique above");
+        inner.string.take();
+        match inner.rep.get_mut() {
+            Rep::List(l) => Ok(Rc::make_mut(l)),
+            _ => unreachable!("a list, made above"),
+        }
+    }
+
+    /// The elements of a pure list (no string form) that nothing else
+    /// holds, taken out to change in place: what Tcl does with an
+    /// unshared argument (`lreplace [K $l [set l {}]] ...`). The value is
+    /// left empty, so only a command's own argument that nothing reads
+    /// again (no execution trace, no error after this) may be taken from.
+    pub(crate) fn take_unshared_list(&self) -> Option<Vec<Value>> {
+        if Rc::strong_count(&self.0) != 1 || self.0.string.get().is_some() {
+            return None;
+        }
+        let mut rep = self.0.rep.borrow_mut();
+        match &*rep {
+            Rep::List(l) if Rc::strong_count(l) == 1 => {}
+            _ => return None,
+        }
+        match std::mem::replace(&mut *rep, Rep::None) {
+            Rep::List(l) => Rc::try_unwrap(l).ok(),
+            _ => unreachable!("matched above"),
+        }
+    }
+
     /// [`Value::list_append`] of one element, moved in.
     pub fn list_push(&mut self, x: Value) -> Result<(), Exception> {
         if let Some(inner) = Rc::get_mut(&mut self.0)

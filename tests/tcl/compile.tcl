@@ -266,3 +266,40 @@ proc one {} {
     return $r
 }
 puts [one]
+# lset in place: another variable holding the list keeps its value; bad
+# indices and non-lists leave the variable as it was; traces see it.
+proc lsetcases {} {
+    set l {a b c}; set keep $l
+    lset l 1 B; lset l end C; lset l 3 d
+    lappend r $l $keep [catch {lset l 9 x} e] $e $l
+    set s "x  {y z}"; lset s 0 X; lappend r $s
+    set bad "a \{"; lappend r [catch {lset bad 0 z} e] $e $bad
+    set n {1 {2 3}}; lset n 1 0 two; lset n {1 1} three; lappend r $n [catch {lset n 1 5 q} e] $e $n
+    set w {p q}; lset w {} whole; lappend r $w [lset w new]
+    set big {}; for {set i 0} {$i < 2000} {incr i} { lappend big $i }
+    for {set i 0} {$i < 2000} {incr i} { lset big $i [expr {$i * 2}] }
+    lappend r [lindex $big 1999] [llength $big]
+    trace add variable t {read write} {apply {{n1 n2 op} {puts "trace $op"}}}
+    set t {1 2}; lset t 0 one; lappend r $t
+    lappend r [catch {lset nosuch 0 x} e] $e
+    array set arr {k v}; lappend r [catch {lset arr 0 x} e] $e
+    return $r
+}
+puts [lsetcases]
+# lreplace of an unshared list (the K idiom) changes it in place; what
+# another variable holds, an error, and an execution trace see no change.
+proc K {x y} { set x }
+proc p {} {
+    set l {}; for {set i 0} {$i < 10} {incr i} { lappend l $i }
+    set keep $l
+    set l [lreplace [K $l [set l {}]] 2 3 X]
+    set m {}; for {set i 0} {$i < 5} {incr i} { lappend m $i }
+    set n [lreplace [K $m [set m {}]] 0 0]
+    set s [lreplace [list a b c] 1 1 B]
+    set e [catch {lreplace [K $n [set n {}]] x 1} msg]
+    list $l $keep $n $s $e $msg [lreplace {a b c} end end] [lreplace {} 0 0 z]
+}
+puts [p]
+trace add execution lreplace leave {apply {{cmd code res op} {puts "leave: $cmd"}}}
+proc q {} { set l [list 1 2 3]; lreplace [K $l [set l {}]] 0 0 zero }
+puts [q]

@@ -119,13 +119,19 @@ fn cmd_linsert(_: &mut Interp, argv: &[Value]) -> TclResult {
     Ok(Value::from_list(items))
 }
 
-fn cmd_lreplace(_: &mut Interp, argv: &[Value]) -> TclResult {
+fn cmd_lreplace(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 4, usize::MAX, "list first last ?element ...?")?;
-    let mut items = argv[1].as_list()?.to_vec();
-    let len = items.len();
+    let len = argv[1].list_len()?;
     let first = parse_index(&argv[2], len)?.clamp(0, len as i64) as usize;
     let last = parse_index(&argv[3], len)?;
     let end = if last < first as i64 { first } else { (last as usize + 1).min(len) };
+    check_list_len(len + argv.len())?;
+    // An unshared list argument is changed in place, as in Tcl (nothing
+    // can fail from here on, and no trace looks at the arguments).
+    let mut items = match interp.cmd_traces.is_empty().then(|| argv[1].take_unshared_list()) {
+        Some(Some(items)) => items,
+        _ => argv[1].as_list()?.to_vec(),
+    };
     items.splice(first..end, argv[4..].iter().cloned());
     Ok(Value::from_list(items))
 }
@@ -587,9 +593,32 @@ fn set_nested(list: &Value, indices: &[Value], v: Value) -> TclResult {
     Ok(Value::from_list(items))
 }
 
+/// `set_nested` on the variable's own value, in place where nothing else
+/// shares it (so `lset` in a loop is O(1) a call, not a copy of the list).
+fn set_nested_in_place(list: &mut Value, indices: &[Value], v: Value) -> Result<(), Exception> {
+    let Some((first, rest)) = indices.split_first() else {
+        *list = v;
+        return Ok(());
+    };
+    let n = list.list_len()?;
+    let i = parse_index(first, n)?;
+    if i < 0 || i as usize > n || (i as usize == n && !rest.is_empty()) {
+        return Err(Exception::error("list index out of range"));
+    }
+    let items = list.list_items_mut()?;
+    let i = i as usize;
+    if i == n {
+        items.push(v);
+        return Ok(());
+    }
+    set_nested_in_place(&mut items[i], rest, v)
+}
+
 fn cmd_lset(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 3, usize::MAX, "listVar ?index? ?index ...? value")?;
-    let cur = interp.get_var(argv[1].as_str())?;
+    let name = argv[1].as_str();
+    // Read first, as Tcl does (its errors and read traces).
+    let cur = interp.get_var(name)?;
     let value = argv[argv.len() - 1].clone();
     let indices: Vec<Value> = if argv.len() == 4 && argv[2].cached_int().is_some() {
         // One integer index (not read as a list: its integer stays).
@@ -599,8 +628,18 @@ fn cmd_lset(interp: &mut Interp, argv: &[Value]) -> TclResult {
     } else {
         argv[2..argv.len() - 1].to_vec()
     };
-    let new = set_nested(&cur, &indices, value)?;
-    interp.set_var(argv[1].as_str(), new)
+    // Nested indices, which could fail half-way down: on a copy.
+    if indices.len() > 1 {
+        let new = set_nested(&cur, &indices, value)?;
+        return interp.set_var(name, new);
+    }
+    // One index: checked before anything changes, then in place (the
+    // handle read above let go, so an unshared list is not copied).
+    drop(cur);
+    let mut value = Some(value);
+    interp.update_var(name, None, &mut |list| {
+        set_nested_in_place(list, &indices, value.take().unwrap_or_default())
+    })
 }
 
 fn cmd_concat(_: &mut Interp, argv: &[Value]) -> TclResult {
