@@ -85,21 +85,80 @@ fn get_int(v: &Value) -> Result<i64, Exception> {
 }
 
 /// An integer argument cut to the spec's size: (negative, magnitude).
-fn sized_int(v: &Value, size: Size, signed: bool) -> Result<(bool, BigUint), Exception> {
+/// An integer's magnitude: 64 bits (no allocation) or a bignum (`%ll`).
+enum Mag {
+    Small(u64),
+    Big(BigUint),
+}
+
+impl Mag {
+    fn is_zero(&self) -> bool {
+        match self {
+            Mag::Small(m) => *m == 0,
+            Mag::Big(b) => b.is_zero(),
+        }
+    }
+
+    /// The digits in the conversion's base (`o`, `x`, `X`, `b`; else 10).
+    fn digits(&self, conv: char) -> String {
+        match (self, conv) {
+            (Mag::Small(m), 'o') => radix(*m, 3, b"01234567"),
+            (Mag::Small(m), 'x') => radix(*m, 4, b"0123456789abcdef"),
+            (Mag::Small(m), 'X') => radix(*m, 4, b"0123456789ABCDEF"),
+            (Mag::Small(m), 'b') => radix(*m, 1, b"01"),
+            (Mag::Small(m), _) => itoa::Buffer::new().format(*m).to_string(),
+            (Mag::Big(b), 'o') => b.to_str_radix(8),
+            (Mag::Big(b), 'x') => b.to_str_radix(16),
+            (Mag::Big(b), 'X') => b.to_str_radix(16).to_ascii_uppercase(),
+            (Mag::Big(b), 'b') => b.to_str_radix(2),
+            (Mag::Big(b), _) => b.to_string(),
+        }
+    }
+}
+
+/// The number ASCII digits spell (0 for none; saturating, so a huge
+/// width fails the size check rather than wrapping).
+fn digits_value(d: &[char]) -> usize {
+    d.iter().fold(0usize, |n, c| {
+        n.saturating_mul(10).saturating_add(c.to_digit(10).unwrap_or(0) as usize)
+    })
+}
+
+/// `m` in base 2^`bits` with these digits (no formatter machinery).
+fn radix(mut m: u64, bits: u32, digits: &[u8]) -> String {
+    let mut buf = [0u8; 64];
+    let mut i = buf.len();
+    loop {
+        i -= 1;
+        buf[i] = digits[(m & ((1 << bits) - 1)) as usize];
+        m >>= bits;
+        if m == 0 {
+            break;
+        }
+    }
+    String::from_utf8_lossy(&buf[i..]).into_owned()
+}
+
+fn sized_int(v: &Value, size: Size, signed: bool) -> Result<(bool, Mag), Exception> {
     let n = match v.as_num() {
         Some(n @ (Num::Int(_) | Num::Big(_))) => n,
         _ => return Err(number::int_error(v.as_str())),
     };
     let wide = n.wrap_i64().expect("an integer");
     Ok(match size {
-        Size::Big => {
-            let b = n.to_bigint().expect("an integer");
-            (b.sign() == Sign::Minus, b.magnitude().clone())
+        Size::Big => match n {
+            Num::Int(i) => (i < 0, Mag::Small(i.unsigned_abs())),
+            _ => {
+                let b = n.to_bigint().expect("an integer");
+                (b.sign() == Sign::Minus, Mag::Big(b.magnitude().clone()))
+            }
+        },
+        Size::Wide if signed => (wide < 0, Mag::Small(wide.unsigned_abs())),
+        Size::Wide => (false, Mag::Small(wide as u64)),
+        Size::Short if signed => {
+            ((wide as i16) < 0, Mag::Small((wide as i16).unsigned_abs() as u64))
         }
-        Size::Wide if signed => (wide < 0, BigUint::from(wide.unsigned_abs())),
-        Size::Wide => (false, BigUint::from(wide as u64)),
-        Size::Short if signed => ((wide as i16) < 0, BigUint::from((wide as i16).unsigned_abs())),
-        Size::Short => (false, BigUint::from(wide as u16)),
+        Size::Short => (false, Mag::Small(wide as u16 as u64)),
     })
 }
 
@@ -201,8 +260,8 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
             j += 1;
         }
         if j > i && j < chars.len() && chars[j] == '$' {
-            let n: usize = chars[i..j].iter().collect::<String>().parse().unwrap_or(0);
-            if n == 0 {
+            let n: usize = digits_value(&chars[i..j]);
+            if n == 0 || n > args.len() {
                 return Err(Exception::error("\"%n$\" argument index out of range"));
             }
             next_arg = n - 1;
@@ -252,7 +311,7 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
             while i < chars.len() && chars[i].is_ascii_digit() {
                 i += 1;
             }
-            spec.width = chars[s..i].iter().collect::<String>().parse().unwrap_or(0);
+            spec.width = digits_value(&chars[s..i]);
         }
         if i < chars.len() && chars[i] == '.' {
             i += 1;
@@ -264,7 +323,7 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
                 while i < chars.len() && chars[i].is_ascii_digit() {
                     i += 1;
                 }
-                spec.precision = Some(chars[s..i].iter().collect::<String>().parse().unwrap_or(0));
+                spec.precision = Some(digits_value(&chars[s..i]));
             }
         }
         // Rust's formatter takes precisions up to 65535; more is no use.
@@ -289,13 +348,7 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
             'd' | 'i' | 'u' | 'o' | 'x' | 'X' | 'b' => {
                 let signed = matches!(conv, 'd' | 'i') || spec.size == Size::Big;
                 let (neg, mag) = sized_int(&take_arg(&mut next_arg)?, spec.size, signed)?;
-                let mut digits = match conv {
-                    'o' => mag.to_str_radix(8),
-                    'x' => mag.to_str_radix(16),
-                    'X' => mag.to_str_radix(16).to_ascii_uppercase(),
-                    'b' => mag.to_str_radix(2),
-                    _ => mag.to_string(),
-                };
+                let mut digits = mag.digits(conv);
                 if let Some(p) = spec.precision {
                     while digits.len() < p {
                         digits.insert(0, '0');
@@ -319,7 +372,11 @@ pub fn format(fmt: &str, args: &[Value]) -> Result<String, Exception> {
                 // Tcl zero-pads an integer on the left even with `-`.
                 let zero_left = spec.zero && spec.precision.is_none();
                 let spec = Spec { minus: spec.minus && !zero_left, ..spec };
-                pad(&spec, format!("{sign}{prefix}{digits}"), zero_left)
+                let mut body = String::with_capacity(sign.len() + prefix.len() + digits.len());
+                body.push_str(sign);
+                body.push_str(prefix);
+                body.push_str(&digits);
+                pad(&spec, body, zero_left)
             }
             'c' => {
                 let v = get_int(&take_arg(&mut next_arg)?)?;

@@ -9,3 +9,9 @@ puts [format "%10.4e|%-12.3g|%012.3f" -3.5 123456 -3.14159]
 puts [format "%s" [expr 1.0]][format %c 233][format %5.1f%% 12.34]
 puts [format %03d 7][format %.3d 7][format %+05d 7][format "% 05d" 7]
 foreach bad {{%d abc} {%d} {%z 1} {%d 1.5} {%s}} { puts [catch [list format {*}$bad] m]:$m }
+puts [catch {format %99999999999999999999\$d 1} m]$m
+puts [format %x|%X|%o|%b|%#x|%#o|%08x|%-6x|%.5x 255 255 8 5 0 0 255 255 255]
+puts [format %llx|%lld|%hx|%hd|%x|%d -1 -99999999999999999999 -1 70000 -1 -5]
+puts [format %b|%#b|%o 0 0 0]
+puts [catch {format {%5$d} 1} m]$m
+puts [format {%2$s-%1$s} a b]
