@@ -171,14 +171,15 @@ impl Interp {
     /// top.
     #[inline]
     pub(crate) fn begin_compiled_body_unit(&mut self) {
+        const BODY: CmdFrame =
+            CmdFrame { frame: 0, unit: None, at: None, direct: false, proc_body: true };
         let frame = self.frames.len() - 1;
-        self.cmd_frames.push(CmdFrame {
-            frame,
-            unit: None,
-            at: None,
-            direct: false,
-            proc_body: true,
-        });
+        // A constant pushed, then its frame set: a record built on the
+        // stack and copied in costs a store-forwarding stall per call.
+        self.cmd_frames.push(BODY);
+        if let Some(f) = self.cmd_frames.last_mut() {
+            f.frame = frame;
+        }
     }
 
     /// A unit's way of counting lines.
@@ -220,6 +221,25 @@ impl Interp {
     #[inline]
     pub(crate) fn end_unit_frame(&mut self) {
         self.cmd_frames.pop();
+    }
+
+    /// Notes that the current unit runs command `i` of `script` now (a
+    /// compiled call site). The record is changed in place: the script
+    /// is most often the one noted last, and a record built on the stack
+    /// and copied in costs a store-forwarding stall on every call.
+    #[inline]
+    pub(crate) fn note_cmd(&mut self, script: &Rc<Script>, i: u32) {
+        if let Some(f) = self.cmd_frames.last_mut() {
+            match &mut f.at {
+                Some(At::Cmd(s, j)) => {
+                    if !Rc::ptr_eq(s, script) {
+                        *s = script.clone();
+                    }
+                    *j = i;
+                }
+                at => *at = Some(At::Cmd(script.clone(), i)),
+            }
+        }
     }
 
     /// Notes the command the current unit runs now.

@@ -1028,7 +1028,7 @@ impl Interp {
         if argv.is_empty() {
             return Ok(Value::empty());
         }
-        self.note_at(At::Cmd(script.clone(), at));
+        self.note_cmd(script, at);
         if expanded || !matches!(words[0], Word::Lit(_)) {
             return self.invoke(&argv);
         }
@@ -1036,18 +1036,29 @@ impl Interp {
             Some((epoch, cmd)) if *epoch == self.cmd_epoch => Some(cmd.clone()),
             _ => None,
         };
-        let cmd = match cached {
-            Some(cmd) => cmd,
-            None => match self.resolve_command(argv[0].as_str()) {
-                Some(cmd) => {
-                    let cmd = cmd.clone();
-                    *cache.borrow_mut() = Some((self.cmd_epoch, cmd.clone()));
-                    cmd
-                }
-                None => return self.invoke(&argv),
-            },
-        };
-        self.invoke_cmd(cmd, &argv)
+        // Called from where the clone was made (a move of the enum into
+        // another stack slot is a stall: a wide load over narrow stores).
+        if let Some(cmd) = &cached {
+            return self.invoke_cmd(cmd, &argv);
+        }
+        self.resolve_and_invoke(cache, &argv)
+    }
+
+    /// A call site's first call, or its first since a command changed.
+    #[inline(never)]
+    fn resolve_and_invoke(
+        &mut self,
+        cache: &RefCell<Option<(u64, CommandKind)>>,
+        argv: &[Value],
+    ) -> TclResult {
+        match self.resolve_command(argv[0].as_str()) {
+            Some(cmd) => {
+                let cmd = cmd.clone();
+                *cache.borrow_mut() = Some((self.cmd_epoch, cmd.clone()));
+                self.invoke_cmd(&cmd, argv)
+            }
+            None => self.invoke(argv),
+        }
     }
 
     /// A condition's truth: a comparison of two integers without making

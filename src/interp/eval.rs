@@ -87,13 +87,25 @@ const INLINE: &[&str] = &[
 /// The largest string or list the interpreter builds (bytes or elements).
 pub const MAX_VALUE_LEN: usize = 1 << 30;
 
-#[derive(Clone)]
 pub(crate) enum CommandKind {
     /// A builtin, and whether Tcl runs it inline (not a level; `INLINE`).
     Native(NativeFn, bool),
     Host(HostFn),
     Numeric(usize, Rc<str>, NumericFn),
     Proc(Rc<Proc>),
+}
+
+// By hand, to be inlined: a call site clones its cached command per call.
+impl Clone for CommandKind {
+    #[inline]
+    fn clone(&self) -> Self {
+        match self {
+            CommandKind::Native(f, inline) => CommandKind::Native(*f, *inline),
+            CommandKind::Host(f) => CommandKind::Host(f.clone()),
+            CommandKind::Numeric(n, usage, f) => CommandKind::Numeric(*n, usage.clone(), f.clone()),
+            CommandKind::Proc(p) => CommandKind::Proc(p.clone()),
+        }
+    }
 }
 
 pub struct Proc {
@@ -1166,7 +1178,7 @@ impl Interp {
                 .with_error_code(&format!("TCL LOOKUP COMMAND {}", argv[0].as_str())));
             }
         };
-        self.invoke_cmd(cmd, argv)
+        self.invoke_cmd(&cmd, argv)
     }
 
     /// Starts an error's `-errorstack` with the command that raised it.
@@ -1187,7 +1199,7 @@ impl Interp {
     }
 
     /// Calls the command `argv[0]` resolved to.
-    pub(crate) fn invoke_cmd(&mut self, cmd: CommandKind, argv: &[Value]) -> TclResult {
+    pub(crate) fn invoke_cmd(&mut self, cmd: &CommandKind, argv: &[Value]) -> TclResult {
         self.enter()?;
         let mark = crate::mem::mark();
         let level = !matches!(cmd, CommandKind::Native(_, true));
@@ -1246,12 +1258,12 @@ impl Interp {
     }
 
     #[inline]
-    pub(crate) fn dispatch(&mut self, cmd: CommandKind, argv: &[Value]) -> TclResult {
+    pub(crate) fn dispatch(&mut self, cmd: &CommandKind, argv: &[Value]) -> TclResult {
         match cmd {
             CommandKind::Native(f, _) => f(self, argv),
             CommandKind::Host(f) => f(self, argv),
-            CommandKind::Numeric(arity, usage, f) => call_numeric(self, arity, &usage, &f, argv),
-            CommandKind::Proc(p) => self.call_proc(&p, argv),
+            CommandKind::Numeric(arity, usage, f) => call_numeric(self, *arity, usage, f, argv),
+            CommandKind::Proc(p) => self.call_proc(p, argv),
         }
     }
 

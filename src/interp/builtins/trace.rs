@@ -376,7 +376,7 @@ impl Interp {
         &mut self,
         key: Option<String>,
         argv: &[Value],
-        cmd: CommandKind,
+        cmd: &CommandKind,
     ) -> TclResult {
         if self.cmd_traces.running {
             return self.dispatch(cmd, argv);
@@ -415,7 +415,7 @@ impl Interp {
             own.iter().rev().filter(|t| t.ops & (ENTERSTEP | LEAVESTEP) != 0).cloned().collect();
         let pushed = stepping.len();
         self.cmd_traces.steps.extend(stepping);
-        let r = self.dispatch(cmd, argv);
+        let r = self.dispatch(&cmd, argv);
         let len = self.cmd_traces.steps.len();
         self.cmd_traces.steps.truncate(len - pushed.min(len));
         let (code, result) = match &r {
