@@ -266,6 +266,13 @@ pub(crate) fn is_local_name(name: &str) -> bool {
     !name.is_empty() && !name.contains("::") && !name.contains('(') && name != "tcl_precision"
 }
 
+/// Whether a `foreach` variable word is one plain name: a literal that
+/// is a list of one element, itself.
+fn one_name(w: &Word) -> bool {
+    let Word::Lit(var) = w else { return false };
+    var.as_list().is_ok_and(|items| items.len() == 1 && items[0].as_str() == var.as_str())
+}
+
 impl Compiler<'_> {
     fn slot(&mut self, name: &str) -> Local {
         match self.names.iter().position(|n| &**n == name) {
@@ -534,13 +541,9 @@ impl Compiler<'_> {
                 let next = Some(self.nested(&w[3])?);
                 Op::For { start, test, next, body: self.nested(&w[4])? }
             }
-            ("foreach", 4) => {
-                let Word::Lit(var) = &w[1] else { return None };
-                // One plain name (a list of one element that is itself).
-                let items = var.as_list().ok()?;
-                if items.len() != 1 || items[0].as_str() != var.as_str() {
-                    return None;
-                }
+            // One plain name (a list of one element that is itself); any
+            // other variable list is the general form below.
+            ("foreach", 4) if one_name(&w[1]) => {
                 let slot = self.local_word(&w[1])?;
                 let list = self.word(&w[2]);
                 Op::Foreach(slot, list, self.nested(&w[3])?)
@@ -756,6 +759,14 @@ impl Interp {
         {
             return self.ceval(e).and_then(expr_result).map_err(|e| self.log_op(e, b, 0));
         }
+        // A pure builtin (`[lindex $l 3]`, `[string length $s]`): it runs
+        // no script, so it is no nesting level either.
+        if let ([Op::Direct(f, words)], None) = (&b.ops[..], &b.script.error)
+            && self.fast(b.epoch)
+        {
+            self.poll()?;
+            return self.run_direct(*f, words).map_err(|e| self.log_op(e, b, 0));
+        }
         self.enter()?;
         let r = self.run_body(b, true);
         self.leave();
@@ -770,6 +781,19 @@ impl Interp {
             Outcome::Break => Err(Exception::flow(Code::Break, Value::empty())),
             Outcome::Continue => Err(Exception::flow(Code::Continue, Value::empty())),
         }
+    }
+
+    /// A pure builtin called with no lookup and no level (`DIRECT_OPS`).
+    #[inline(always)]
+    fn run_direct(&mut self, f: NativeFn, words: &[Word]) -> TclResult {
+        let argv = self.eval_words8(words)?;
+        let mark = crate::mem::mark();
+        let mut r = f(self, &argv);
+        self.note_inner(&argv, &mut r);
+        if crate::mem::grew_past(mark) || super::value::has_pending() {
+            return super::eval::after_growth(r);
+        }
+        r
     }
 
     /// One command. Inline ops are not a nesting level and do not
@@ -807,16 +831,7 @@ impl Interp {
             Op::Call { words, cache } => {
                 Ok(Outcome::Normal(Some(self.run_call(words, cache, script, at)?)))
             }
-            Op::Direct(f, words) => {
-                let argv = self.eval_words8(words)?;
-                let mark = crate::mem::mark();
-                let mut r = f(self, &argv);
-                self.note_inner(&argv, &mut r);
-                if crate::mem::grew_past(mark) || super::value::has_pending() {
-                    return Ok(Outcome::Normal(Some(super::eval::after_growth(r)?)));
-                }
-                Ok(Outcome::Normal(Some(r?)))
-            }
+            Op::Direct(f, words) => Ok(Outcome::Normal(Some(self.run_direct(*f, words)?))),
             Op::Append(..) | Op::Lappend(..) | Op::AppendElem(..) => {
                 let mark = crate::mem::mark();
                 let r = self.run_inline(op, want);

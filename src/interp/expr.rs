@@ -327,6 +327,15 @@ impl Operand {
         }
     }
 
+    /// The operand's string, an integer's written into `buf`.
+    fn str_for_compare<'a>(&'a self, buf: &'a mut itoa::Buffer) -> std::borrow::Cow<'a, str> {
+        match self {
+            Operand::Int(i) => std::borrow::Cow::Borrowed(buf.format(*i)),
+            Operand::Str(v) => std::borrow::Cow::Borrowed(v.as_str()),
+            _ => std::borrow::Cow::Owned(self.str_value().as_str().to_owned()),
+        }
+    }
+
     fn str_value(&self) -> Value {
         match self {
             Operand::Int(i) => Value::from_int(*i),
@@ -773,7 +782,12 @@ fn cmp_nums(x: &Num, y: &Num) -> Option<std::cmp::Ordering> {
 fn compare(a: &Operand, b: &Operand) -> Option<std::cmp::Ordering> {
     match (a.num(), b.num()) {
         (Some(x), Some(y)) => cmp_nums(&x, &y),
-        _ => Some(a.str_value().as_str().cmp(b.str_value().as_str())),
+        // As strings (`$n != {}`): an integer's digits made on the stack.
+        _ => {
+            let (mut p, mut q) = (itoa::Buffer::new(), itoa::Buffer::new());
+            let (sa, sb) = (a.str_for_compare(&mut p), b.str_for_compare(&mut q));
+            Some(sa.as_ref().cmp(sb.as_ref()))
+        }
     }
 }
 

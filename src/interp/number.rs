@@ -234,6 +234,9 @@ pub(crate) fn parse_simple_decimal(b: &[u8]) -> Option<Num> {
 }
 
 pub fn parse_num(s: &str) -> Option<Num> {
+    if s.is_empty() {
+        return None;
+    }
     if let Some(n) = parse_simple_decimal(s.as_bytes()) {
         return Some(n);
     }

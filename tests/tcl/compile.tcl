@@ -303,3 +303,21 @@ puts [p]
 trace add execution lreplace leave {apply {{cmd code res op} {puts "leave: $cmd"}}}
 proc q {} { set l [list 1 2 3]; lreplace [K $l [set l {}]] 0 0 zero }
 puts [q]
+# foreach with a variable list of several names and one list (compiled),
+# lindex with a literal index word, comparisons with an empty string,
+# binary scan of one value per byte.
+proc f3 {} {
+    set out {}
+    foreach {x y z} {1 2 3 4 5} { lappend out [list $x $y $z] }
+    foreach {k v} [list a 1 b 2] { lappend out $k=$v }
+    set L {A B C D}
+    lappend out [lindex $L 2] [lindex $L end-1] [lindex $L {1}] [lindex {{a b} c} {0 1}]
+    lappend out [catch {lindex $L x} msg] $msg
+    set n 5; set e {}; set d 1.5
+    lappend out [expr {$n != {}}] [expr {$e == {}}] [expr {$n < {}}] [expr {$d > "abc"}] [expr {10 < "9a"}]
+    binary scan "\x01\xff\x80AB" c*cu X Y
+    lappend out $X [binary scan "\x01\x02\x03\x04" Su2 W] $W
+    binary scan "\x00\x00\xc0\x3f\x00\x00\x00\x00\x00\x00\xf8\x3f" rQ F D
+    lappend out $F $D
+}
+puts [f3]

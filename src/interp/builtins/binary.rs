@@ -294,20 +294,23 @@ fn format(args: &[Value]) -> TclResult {
 }
 
 fn scan_number(bytes: &[u8], cmd: char, unsigned: bool) -> Value {
-    let mut b = bytes.to_vec();
+    // The field's bytes, little-endian, in the low end of a word (no
+    // allocation: `binary scan $s c*` makes one value per byte).
+    let n = bytes.len().min(8);
+    let mut wide = [0u8; 8];
+    wide[..n].copy_from_slice(&bytes[..n]);
     if !little_endian(cmd) {
-        b.reverse();
+        wide[..n].reverse();
     }
     match cmd {
-        'd' | 'q' | 'Q' => Value::from_f64(f64::from_le_bytes(b.try_into().expect("8 bytes"))),
+        'd' | 'q' | 'Q' => Value::from_f64(f64::from_le_bytes(wide)),
         'f' | 'r' | 'R' => {
-            Value::from_f64(f32::from_le_bytes(b.try_into().expect("4 bytes")) as f64)
+            let [a, b, c, d, ..] = wide;
+            Value::from_f64(f32::from_le_bytes([a, b, c, d]) as f64)
         }
         _ => {
-            let mut wide = [0u8; 8];
-            wide[..b.len()].copy_from_slice(&b);
             let raw = u64::from_le_bytes(wide);
-            let bits = 8 * b.len() as u32;
+            let bits = 8 * n as u32;
             if unsigned {
                 if bits == 64 && raw > i64::MAX as u64 {
                     Value::from_num(Num::from_big(BigInt::from(raw)))
