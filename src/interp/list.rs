@@ -10,6 +10,13 @@ fn is_space(c: u8) -> bool {
     matches!(c, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c)
 }
 
+/// Whether `s` is surely a list of one element that is `s` itself: not
+/// empty, and no space, brace, quote or backslash anywhere in it (a
+/// quick test that needs no parse; `lindex $l 3` reads its index so).
+pub(crate) fn is_bare_element(s: &str) -> bool {
+    !s.is_empty() && !s.bytes().any(|b| is_space(b) || matches!(b, b'{' | b'}' | b'"' | b'\\'))
+}
+
 fn context(b: &[u8], from: usize) -> String {
     let mut end = from;
     while end < b.len() && !is_space(b[end]) && end < from + 20 {

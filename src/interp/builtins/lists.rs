@@ -5,7 +5,7 @@ use std::cmp::Ordering;
 
 use super::super::error::{Exception, TclResult};
 use super::super::eval::{Interp, check_len, check_list_len};
-
+use super::super::list::is_bare_element;
 use super::super::value::Value;
 use super::control::concat;
 use super::{Entry, check_args, glob_match, parse_index, pick_option};
@@ -44,18 +44,9 @@ fn index_into(list: &Value, idx: &Value) -> TclResult {
     Ok(if i < 0 || i as usize >= items.len() { Value::empty() } else { items[i as usize].clone() })
 }
 
-/// Whether `s` is a list of one element that is `s` itself: no byte a
-/// list reads as a separator, brace, quote or escape.
-fn one_word(s: &str) -> bool {
-    !s.is_empty()
-        && !s.bytes().any(|b| {
-            matches!(b, b' ' | b'\t' | b'\n' | b'\r' | 0x0b | 0x0c | b'{' | b'}' | b'"' | b'\\')
-        })
-}
-
 fn cmd_lindex(_: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "list ?index ...?")?;
-    if argv.len() == 3 && (argv[2].cached_int().is_some() || one_word(argv[2].as_str())) {
+    if argv.len() == 3 && (argv[2].cached_int().is_some() || is_bare_element(argv[2].as_str())) {
         // One index, an integer or a word that is a list of just itself
         // (not read as a list: the integer it parses to stays).
         return index_into(&argv[1], &argv[2]);
