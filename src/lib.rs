@@ -12,7 +12,8 @@
 //!   trees with locals in slots), `stream` (whole files, the scanner
 //!   thread), `expr`, `builtins`. It knows nothing about graphics.
 //! - `geometry`: rays (with a time), boxes, spheres, watertight triangles,
-//!   the 4-wide BVH whose leaves hold blocks of four primitives tested in
+//!   the BVH (8-wide nodes where the CPU has AVX2, else 4-wide: `bvh::wide`)
+//!   whose leaves hold blocks of four primitives tested in
 //!   SIMD lanes, and objects, leaves of their own kind (`object`): placed
 //!   analytic solids (`solid`, with `poly`'s root finder for the torus),
 //!   CSG by intervals (`csg`), blobs (`blob`), lazily generated fractals

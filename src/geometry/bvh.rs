@@ -1,22 +1,25 @@
 //! The bounding volume hierarchy: a binned-SAH build over every primitive
 //! (triangles and spheres alike) into a binary tree, collapsed into a
-//! 4-wide tree of 128-byte nodes in depth-first order whose leaves are
-//! blocks of four primitives (`blocks`); traversed with an explicit stack,
-//! nearest child first. `intersect` finds the closest hit; `transmittance`
-//! is the any-hit query for shadow rays, which multiplies in what each
-//! surface lets through.
+//! tree of 8-wide nodes (where the CPU has AVX2) or 4-wide ones (`wide`),
+//! in depth-first order, whose leaves are blocks of four primitives
+//! (`blocks`); traversed with an explicit stack, nearest child first.
+//! `intersect` finds the closest hit; `transmittance` is the any-hit query
+//! for shadow rays, which multiplies in what each surface lets through.
 
 use std::cell::Cell;
 
 use glam::{Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
-use super::aabb::ROBUST;
 use super::blocks::{self, Block, Pre4, Rec};
 use super::object::ShadowHit;
 use super::object::{Local, Located, Object};
 use super::shapes::RayPre;
 use super::{Aabb, Hit, Ray, Shape};
+pub use wide::Width;
+use wide::{Avx2, Four, Kernel, Slots, Wide, Wide8};
+
+mod wide;
 
 /// SAH buckets along the split axis.
 const BINS: usize = 16;
@@ -52,88 +55,50 @@ impl Node {
     }
 }
 
-/// A node of the 4-wide tree the renderer walks: the bounds of up to four
-/// children in SIMD lanes (one box test covers all four), collapsed from
-/// the binary build tree. 128 bytes, two cache lines.
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(64))]
-struct Wide {
-    /// The children's bounds by axis: [lo, hi] for x, y and z.
-    b: [[Vec4; 2]; 3],
-    /// Child i: an interior node's index, or a leaf's first block.
-    child: [u32; 4],
-    /// Leaf child i's triangle blocks, plus its sphere blocks shifted by
-    /// `SHIFT` and its object blocks by twice that; 0 for an interior node.
-    count: [u32; 4],
-}
-
-impl Wide {
-    /// Empty slots hold an inverted box (lo +inf, hi -inf): entered at
-    /// +inf and left at -inf on every axis, whatever the ray's direction.
-    const EMPTY: Wide =
-        Wide { b: [[Vec4::INFINITY, Vec4::NEG_INFINITY]; 3], child: [0; 4], count: [0; 4] };
-
-    fn set(&mut self, i: usize, bounds: Aabb, child: u32, count: u32) {
-        for axis in 0..3 {
-            self.b[axis][0][i] = bounds.min[axis];
-            self.b[axis][1][i] = bounds.max[axis];
-        }
-        self.child[i] = child;
-        self.count[i] = count;
-    }
-
-    /// The slab test for all four children: a bit mask of those the
-    /// segment `(t_min, t_max)` enters, and their entry distances.
-    #[inline(always)]
-    fn hit(&self, r: &Slabs, t_min: f32, t_max: f32) -> (u32, Vec4) {
-        let [nx, ny, nz] = r.near;
-        // `& 1`: provably in bounds, so no checks.
-        let tnx = (self.b[0][nx & 1] - r.org[0]) * r.inv[0];
-        let tfx = (self.b[0][(nx ^ 1) & 1] - r.org[0]) * r.inv[0];
-        let tny = (self.b[1][ny & 1] - r.org[1]) * r.inv[1];
-        let tfy = (self.b[1][(ny ^ 1) & 1] - r.org[1]) * r.inv[1];
-        let tnz = (self.b[2][nz & 1] - r.org[2]) * r.inv[2];
-        let tfz = (self.b[2][(nz ^ 1) & 1] - r.org[2]) * r.inv[2];
-        let near = tnx.max(tny).max(tnz.max(Vec4::splat(t_min)));
-        // Robust traversal (Ize 2013): the exit widened by 2 ulps of error.
-        let far = tfx.min(tfy).min(tfz.min(Vec4::splat(t_max))) * ROBUST;
-        (near.cmple(far).bitmask(), near)
-    }
-}
-
-/// Per-ray constants of the 4-wide slab test: the origin and inverse
-/// direction splatted across lanes, and for each axis which of the two
-/// planes (0: lo, 1: hi) the ray meets first (so no per-lane min/max).
-struct Slabs {
-    org: [Vec4; 3],
-    inv: [Vec4; 3],
-    near: [usize; 3],
-}
-
-impl Slabs {
-    fn new(ray: &Ray) -> Slabs {
-        // A zero direction component gets a huge finite inverse instead of
-        // infinity, so `0 * inv` never makes a NaN at a slab's plane.
-        let inv = |d: f32| if d.abs() < 1e-30 { 1e30f32.copysign(d) } else { d.recip() };
-        let i = [inv(ray.dir.x), inv(ray.dir.y), inv(ray.dir.z)];
-        Slabs {
-            org: [Vec4::splat(ray.origin.x), Vec4::splat(ray.origin.y), Vec4::splat(ray.origin.z)],
-            inv: [Vec4::splat(i[0]), Vec4::splat(i[1]), Vec4::splat(i[2])],
-            near: i.map(|i| (i < 0.0) as usize),
-        }
-    }
-}
-
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BvhStats {
     pub nodes: usize,
     pub leaves: usize,
     pub depth: usize,
     pub bytes: usize,
+    pub width: Width,
+}
+
+/// The walked tree's nodes, of the width chosen at build.
+enum Nodes {
+    Four(Vec<Wide>),
+    #[cfg(target_arch = "x86_64")]
+    Eight(Vec<Wide8>, Avx2),
+}
+
+impl Nodes {
+    fn len(&self) -> usize {
+        match self {
+            Nodes::Four(n) => n.len(),
+            #[cfg(target_arch = "x86_64")]
+            Nodes::Eight(n, _) => n.len(),
+        }
+    }
+
+    /// The number of leaf slots, the bytes taken, and the root's bounds.
+    fn summary(&self) -> (usize, usize, Aabb) {
+        fn of<S: Slots>(n: &[S]) -> (usize, usize, Aabb) {
+            let leaves = n.iter().map(|n| (0..S::N).filter(|&i| n.child(i).1 > 0).count()).sum();
+            let root = n.first().map_or(Aabb::EMPTY, |r| {
+                (0..S::N).map(|i| r.bounds(i)).fold(Aabb::EMPTY, Aabb::union)
+            });
+            (leaves, std::mem::size_of_val(n), root)
+        }
+        match self {
+            Nodes::Four(n) => of(n),
+            #[cfg(target_arch = "x86_64")]
+            Nodes::Eight(n, _) => of(n),
+        }
+    }
 }
 
 pub struct Bvh {
-    nodes: Vec<Wide>,
+    nodes: Nodes,
     /// The leaves' geometry: each leaf's triangle blocks, then its sphere
     /// blocks, then its object blocks.
     blocks: Vec<Block>,
@@ -223,6 +188,17 @@ impl Bvh {
         shape: impl Fn(usize) -> Shape + Sync,
         objects: Vec<Object>,
     ) -> Bvh {
+        Bvh::build_wide(n, shape, objects, Width::detect())
+    }
+
+    /// `build_with` into nodes of `width` (4-wide where the CPU cannot
+    /// test eight children at once).
+    fn build_wide(
+        n: usize,
+        shape: impl Fn(usize) -> Shape + Sync,
+        objects: Vec<Object>,
+        width: Width,
+    ) -> Bvh {
         let mut prims: Vec<BuildPrim> = (0..n)
             .into_par_iter()
             .filter_map(|i| {
@@ -251,16 +227,19 @@ impl Bvh {
         let mut ordered: Vec<(u32, Shape)> =
             prims.par_iter().map(|p| (p.index() as u32, shape(p.index()))).collect();
         drop(prims);
-        let mut w = Widen {
-            bin: &binary,
-            shapes: &mut ordered,
-            nodes: Vec::with_capacity(binary.len() / 3 + 1),
-            blocks: Vec::with_capacity(n / 4 + 1),
-            recs: vec![Rec::default(); n],
-            depth: 0,
+        let mut blocks = Vec::with_capacity(n / 4 + 1);
+        let mut recs = vec![Rec::default(); n];
+        let (nodes, depth) = match width {
+            #[cfg(target_arch = "x86_64")]
+            Width::Eight if let Some(avx) = Avx2::new() => {
+                let (nodes, depth) = widen(&binary, &mut ordered, &mut blocks, &mut recs);
+                (Nodes::Eight(nodes, avx), depth)
+            }
+            _ => {
+                let (nodes, depth) = widen(&binary, &mut ordered, &mut blocks, &mut recs);
+                (Nodes::Four(nodes), depth)
+            }
         };
-        w.run();
-        let Widen { nodes, blocks, mut recs, depth, .. } = w;
         let mut after = Vec::with_capacity(unbounded.len());
         for (id, index) in unbounded {
             after.push(recs.len() as u32);
@@ -276,14 +255,19 @@ impl Bvh {
     pub fn stats(&self) -> BvhStats {
         BvhStats {
             nodes: self.nodes.len(),
-            leaves: self.nodes.iter().map(|n| n.count.iter().filter(|&&c| c > 0).count()).sum(),
+            leaves: self.nodes.summary().0,
             depth: self.depth,
             bytes: self.bytes(&mut std::collections::HashSet::new()),
+            width: match self.nodes {
+                Nodes::Four(_) => Width::Four,
+                #[cfg(target_arch = "x86_64")]
+                Nodes::Eight(..) => Width::Eight,
+            },
         }
     }
 
     fn bytes(&self, seen: &mut std::collections::HashSet<*const Bvh>) -> usize {
-        let own = self.nodes.len() * std::mem::size_of::<Wide>()
+        let own = self.nodes.summary().1
             + self.blocks.len() * std::mem::size_of::<Block>()
             + self.recs.len() * std::mem::size_of::<Rec>()
             + self.objects.len() * std::mem::size_of::<Object>();
@@ -410,14 +394,7 @@ impl Bvh {
         if !self.unbounded.is_empty() {
             return Aabb::EMPTY;
         }
-        let Some(root) = self.nodes.first() else { return Aabb::EMPTY };
-        (0..4)
-            .filter(|&i| root.b[0][0][i] <= root.b[0][1][i])
-            .map(|i| Aabb {
-                min: Vec3A::new(root.b[0][0][i], root.b[1][0][i], root.b[2][0][i]),
-                max: Vec3A::new(root.b[0][1][i], root.b[1][1][i], root.b[2][1][i]),
-            })
-            .fold(Aabb::EMPTY, Aabb::union)
+        self.nodes.summary().2
     }
 
     /// The closest hit in `(t_min, t_max)`, and the traversal steps taken
@@ -654,28 +631,49 @@ impl Bvh {
         leaf: impl FnMut(&[Block], &[Block], &[Block], &mut f32) -> bool,
     ) -> u32 {
         // A non-finite ray is never walked: its slab tests would be NaN.
-        if self.nodes.is_empty() || !(ray.origin.is_finite() && ray.dir.is_finite()) {
+        if self.nodes.len() == 0 || !(ray.origin.is_finite() && ray.dir.is_finite()) {
             return 0;
         }
         // The thread's stack, reused from ray to ray (taken out while in
         // use, so a walk inside a walk would simply start a new one).
         let mut stack = STACK.take();
         stack.clear();
-        let steps = self.walk::<NEAR_FIRST>(&mut stack, ray, t_min, t_max, leaf);
+        let steps = match &self.nodes {
+            Nodes::Four(n) => {
+                self.walk::<NEAR_FIRST, _>(Four, n, &mut stack, ray, t_min, t_max, leaf)
+            }
+            #[cfg(target_arch = "x86_64")]
+            Nodes::Eight(n, avx) => {
+                // One reference into the AVX2 function (its arguments pass
+                // in registers, not copied through memory).
+                let mut args = (self, n, &mut stack, ray, t_min, t_max, leaf);
+                let args = &mut args;
+                avx.run(move || {
+                    let (me, n, stack, ray, t_min, t_max, leaf) = args;
+                    me.walk::<NEAR_FIRST, _>(*avx, n, stack, ray, *t_min, t_max, leaf)
+                })
+            }
+        };
         STACK.set(stack);
         steps
     }
 
     #[inline(always)]
-    fn walk<const NEAR_FIRST: bool>(
+    #[allow(clippy::too_many_arguments)]
+    fn walk<const NEAR_FIRST: bool, K: Kernel>(
         &self,
+        kernel: K,
+        nodes: &[K::Node],
         stack: &mut Vec<Entry>,
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
         mut leaf: impl FnMut(&[Block], &[Block], &[Block], &mut f32) -> bool,
     ) -> u32 {
-        let slabs = Slabs::new(ray);
+        let slabs = kernel.slabs(ray);
+        // A walk never holds more than N - 1 entries a level; more would
+        // mean a broken tree or ray: stop.
+        let limit = (K::Node::N - 1) * self.depth + 4;
         let mut steps = 0;
         let mut current = Entry { child: 0, count: 0, t: t_min };
         loop {
@@ -693,14 +691,15 @@ impl Bvh {
                     return steps;
                 }
             } else {
-                let n = &self.nodes[current.child as usize];
-                let (mut mask, near) = n.hit(&slabs, t_min, *t_max);
+                let n = &nodes[current.child as usize];
+                let (mut mask, near) = kernel.hit(n, &slabs, t_min, *t_max);
                 if mask != 0 {
-                    let near = near.to_array();
-                    // `& 3`: lanes are 0..4, provably, so no bounds checks.
+                    // Masked to the lanes there are, provably, so no
+                    // bounds checks.
                     let entry = |i: u32| {
-                        let i = (i & 3) as usize;
-                        Entry { child: n.child[i], count: n.count[i], t: near[i] }
+                        let i = i as usize & (K::Node::N - 1);
+                        let (child, count) = n.child(i);
+                        Entry { child, count, t: near[i] }
                     };
                     let a = entry(mask.trailing_zeros());
                     mask &= mask - 1;
@@ -710,7 +709,7 @@ impl Bvh {
                     }
                     if !NEAR_FIRST {
                         // The first child now, the others after it.
-                        if stack.len() > 3 * self.depth + 4 {
+                        if stack.len() > limit {
                             return steps;
                         }
                         while mask != 0 {
@@ -725,7 +724,7 @@ impl Bvh {
                     if mask == 0 {
                         // Two: go to the nearer, keep the farther.
                         let (near, far) = if b.t < a.t { (b, a) } else { (a, b) };
-                        if stack.len() > 3 * self.depth + 4 {
+                        if stack.len() > limit {
                             return steps;
                         }
                         stack.push(far);
@@ -733,11 +732,9 @@ impl Bvh {
                         continue;
                     }
                     // More: push them all, keeping that part of the stack
-                    // sorted farthest first, and take the nearest. (A walk
-                    // never holds more than three entries a level; more
-                    // would mean a broken tree or ray: stop.)
+                    // sorted farthest first, and take the nearest.
                     let base = stack.len();
-                    if base > 3 * self.depth + 4 {
+                    if base > limit {
                         return steps;
                     }
                     push_sorted(stack, base, a);
@@ -783,27 +780,41 @@ thread_local! {
     static STACK: Cell<Vec<Entry>> = const { Cell::new(Vec::new()) };
 }
 
-/// Collapses the binary build tree into the 4-wide tree: each wide node
-/// takes a binary node's children and opens the largest interior ones
-/// among them until it has four. Leaves become blocks of four, triangles
-/// first. Nodes are laid out root first, depth-first.
-struct Widen<'a> {
+/// Collapses the binary build tree `bin` into a tree of `S` nodes (see
+/// `Widen`); returns the nodes and the depth.
+fn widen<S: Slots>(
+    bin: &[Node],
+    shapes: &mut [(u32, Shape)],
+    blocks: &mut Vec<Block>,
+    recs: &mut [Rec],
+) -> (Vec<S>, usize) {
+    let nodes = Vec::with_capacity(bin.len() / (S::N - 1) + 1);
+    let mut w = Widen { bin, shapes, nodes, blocks, recs, depth: 0 };
+    w.run();
+    (w.nodes, w.depth)
+}
+
+/// Collapses the binary build tree into a tree of `S::N`-wide nodes: each
+/// wide node takes a binary node's children and opens the largest interior
+/// ones among them until it has `S::N`. Leaves become blocks of four,
+/// triangles first. Nodes are laid out root first, depth-first.
+struct Widen<'a, S> {
     bin: &'a [Node],
     /// The primitives in leaf order, with their numbers in the scene (each
     /// leaf's are reordered, triangles first, as they are packed).
     shapes: &'a mut [(u32, Shape)],
-    nodes: Vec<Wide>,
-    blocks: Vec<Block>,
-    recs: Vec<Rec>,
+    nodes: Vec<S>,
+    blocks: &'a mut Vec<Block>,
+    recs: &'a mut [Rec],
     depth: usize,
 }
 
-impl Widen<'_> {
+impl<S: Slots> Widen<'_, S> {
     fn run(&mut self) {
         match self.bin.first() {
             None => {}
             Some(&root) if root.count > 0 => {
-                let mut w = Wide::EMPTY;
+                let mut w = S::EMPTY;
                 let (child, count) = self.leaf(&root);
                 w.set(0, root.bounds(), child, count);
                 self.nodes.push(w);
@@ -833,7 +844,7 @@ impl Widen<'_> {
             let n = mine[from..].iter().take_while(|s| kind(&s.1) == k).count();
             let before = self.blocks.len();
             let prims = &mine[from..from + n];
-            Block::pack(prims, (first + from) as u32, &mut self.blocks, &mut self.recs);
+            Block::pack(prims, (first + from) as u32, self.blocks, self.recs);
             *c = (self.blocks.len() - before) as u32;
             from += n;
         }
@@ -843,9 +854,10 @@ impl Widen<'_> {
     fn node(&mut self, i: usize, level: usize) -> u32 {
         self.depth = self.depth.max(level);
         let bin = self.bin;
-        let mut kids = [i + 1, bin[i].offset as usize, 0, 0];
+        let mut kids = [0; 8];
+        kids[..2].copy_from_slice(&[i + 1, bin[i].offset as usize]);
         let mut k = 2;
-        while k < 4 {
+        while k < S::N {
             let open = (0..k)
                 .filter(|&j| bin[kids[j]].count == 0)
                 .map(|j| (j, bin[kids[j]].bounds().surface_area()))
@@ -857,7 +869,7 @@ impl Widen<'_> {
             k += 1;
         }
         let me = self.nodes.len();
-        self.nodes.push(Wide::EMPTY);
+        self.nodes.push(S::EMPTY);
         for (slot, &c) in kids[..k].iter().enumerate() {
             let n = &bin[c];
             let (child, count) =

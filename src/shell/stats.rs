@@ -52,6 +52,8 @@ pub struct RenderReport {
     pub parse_seconds: f64,
     pub build_seconds: f64,
     pub nodes: usize,
+    /// How many children a node has (8 with AVX2, else 4).
+    pub node_width: u32,
     pub depth: usize,
     pub primitives: usize,
     pub triangles: usize,
@@ -83,6 +85,7 @@ impl RenderReport {
             parse_seconds,
             build_seconds: scene.build_seconds,
             nodes: st.nodes,
+            node_width: st.width.lanes(),
             depth: st.depth,
             primitives: scene.bvh.len(),
             triangles: scene.bvh.triangles(),
@@ -106,10 +109,11 @@ impl std::fmt::Display for RenderReport {
         writeln!(f, "parse      {:.3} s", self.parse_seconds)?;
         writeln!(
             f,
-            "bvh build  {:.3} s  ({} primitives, {} nodes, depth {}, {:.2} M primitives/s)",
+            "bvh build  {:.3} s  ({} primitives, {} {}-wide nodes, depth {}, {:.2} M primitives/s)",
             self.build_seconds,
             self.primitives,
             self.nodes,
+            self.node_width,
             self.depth,
             self.primitives as f64 / self.build_seconds.max(1e-9) / 1e6
         )?;

@@ -252,3 +252,37 @@ fn crossings_cover_the_whole_line() {
         assert!(ts[0] < 0.0 && ts[1] > 0.0, "{dir}: {ts:?}");
     }
 }
+
+/// Trees of 8-wide nodes (where this CPU has AVX2) and of 4-wide ones
+/// find the same surfaces at the same distances, and let the same light
+/// through: the width changes the walk, never the answer.
+#[test]
+fn widths_agree() {
+    let mut seed = 17;
+    let shapes = random_scene(4000, &mut seed);
+    let build = |w| Bvh::build_wide(shapes.len(), |i| shapes[i], Vec::new(), w);
+    let (four, eight) = (build(Width::Four), build(Width::Eight));
+    assert_eq!(four.stats().width, Width::Four);
+    if wide::Avx2::new().is_some() {
+        assert_eq!(eight.stats().width, Width::Eight);
+        assert!(eight.stats().nodes < four.stats().nodes);
+    }
+    assert_eq!(four.bounds(), eight.bounds());
+    let half = |_: ShadowHit| Vec3::splat(0.5);
+    for _ in 0..4000 {
+        let o = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 14.0 - 2.0;
+        let d = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) - 0.5;
+        let ray = Ray::new(o, d);
+        let hit = |b: &Bvh| b.intersect(&ray, 0.0, f32::INFINITY).0.map(|h| (h.t, b.id(h.prim)));
+        assert_eq!(hit(&four), hit(&eight), "ray {o} {d}");
+        let through = |b: &Bvh| b.transmittance(&ray, 0.0, 20.0, half);
+        assert_eq!(through(&four), through(&eight), "ray {o} {d}");
+        let crossed = |b: &Bvh| {
+            let mut ts = Vec::new();
+            b.crossings(&ray, &mut |t, prim| ts.push((t.to_bits(), b.id(prim))));
+            ts.sort();
+            ts
+        };
+        assert_eq!(crossed(&four), crossed(&eight), "ray {o} {d}");
+    }
+}

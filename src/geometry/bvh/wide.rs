@@ -1,0 +1,296 @@
+//! The nodes the renderer walks, and their slab tests: 4-wide nodes
+//! (glam's four lanes: SSE, NEON, or scalar code elsewhere) and, where the
+//! CPU has AVX2, 8-wide nodes tested in one 256-bit pass. The width is
+//! chosen when a tree is built (`Width::detect`); both kinds of node give
+//! a child the same box and the same entry test to the bit, so which one a
+//! tree uses changes its speed, never what a ray hits.
+//!
+//! The 8-wide test goes through `pulp`'s safe wrappers of the AVX
+//! intrinsics, inside a function compiled for AVX2 (`Avx2::run`), so the
+//! crate keeps `unsafe_code = "forbid"`.
+
+use glam::Vec4;
+
+use super::super::Aabb;
+use super::super::Ray;
+use super::super::aabb::ROBUST;
+
+/// What the tree builder needs of a node: `N` child slots, each a box and
+/// a child reference (`count` 0: an interior node at `child`; otherwise a
+/// leaf's first block and its block counts).
+pub(super) trait Slots: Copy {
+    const N: usize;
+    /// No children: every slot holds an inverted box (lo +inf, hi -inf),
+    /// entered at +inf and left at -inf on every axis, whatever the ray.
+    const EMPTY: Self;
+    fn set(&mut self, i: usize, bounds: Aabb, child: u32, count: u32);
+    fn child(&self, i: usize) -> (u32, u32);
+    fn lo(&self, axis: usize, i: usize) -> f32;
+    fn hi(&self, axis: usize, i: usize) -> f32;
+
+    /// Slot `i`'s box (inverted when the slot is empty).
+    fn bounds(&self, i: usize) -> Aabb {
+        let b = |f: fn(&Self, usize, usize) -> f32| {
+            glam::Vec3A::new(f(self, 0, i), f(self, 1, i), f(self, 2, i))
+        };
+        Aabb { min: b(Self::lo), max: b(Self::hi) }
+    }
+}
+
+/// A slab test over one kind of node: `hit` gives a bit mask of the
+/// children the segment `(t_min, t_max)` enters, and their entry distances.
+pub(super) trait Kernel: Copy {
+    type Node: Slots;
+    /// The per-ray constants, splatted across the lanes.
+    type Slabs;
+    type Near: std::ops::Index<usize, Output = f32> + Copy;
+    fn slabs(self, ray: &Ray) -> Self::Slabs;
+    fn hit(self, node: &Self::Node, r: &Self::Slabs, t_min: f32, t_max: f32) -> (u32, Self::Near);
+}
+
+/// The reciprocal of a direction component, with a huge finite value
+/// instead of infinity for zero, so `0 * inv` never makes a NaN at a
+/// slab's plane.
+fn inv(d: f32) -> f32 {
+    if d.abs() < 1e-30 { 1e30f32.copysign(d) } else { d.recip() }
+}
+
+/// For each axis, which of the two planes (0: lo, 1: hi) the ray meets
+/// first, so the test needs no per-lane min/max.
+fn near_planes(i: [f32; 3]) -> [usize; 3] {
+    i.map(|i| (i < 0.0) as usize)
+}
+
+/// A node of up to four children, their bounds in lanes by axis: 128
+/// bytes, two cache lines.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+pub(super) struct Wide {
+    /// The children's bounds by axis: [lo, hi] for x, y and z.
+    b: [[Vec4; 2]; 3],
+    /// Child i: an interior node's index, or a leaf's first block.
+    child: [u32; 4],
+    /// Leaf child i's block counts (see `SHIFT` in the tree); 0 for an
+    /// interior node.
+    count: [u32; 4],
+}
+
+impl Slots for Wide {
+    const N: usize = 4;
+    const EMPTY: Wide =
+        Wide { b: [[Vec4::INFINITY, Vec4::NEG_INFINITY]; 3], child: [0; 4], count: [0; 4] };
+
+    fn set(&mut self, i: usize, bounds: Aabb, child: u32, count: u32) {
+        for axis in 0..3 {
+            self.b[axis][0][i] = bounds.min[axis];
+            self.b[axis][1][i] = bounds.max[axis];
+        }
+        self.child[i] = child;
+        self.count[i] = count;
+    }
+
+    #[inline(always)]
+    fn child(&self, i: usize) -> (u32, u32) {
+        let i = i & 3;
+        (self.child[i], self.count[i])
+    }
+
+    fn lo(&self, axis: usize, i: usize) -> f32 {
+        self.b[axis][0][i]
+    }
+
+    fn hi(&self, axis: usize, i: usize) -> f32 {
+        self.b[axis][1][i]
+    }
+}
+
+/// The 4-wide test, on glam's lanes.
+#[derive(Clone, Copy)]
+pub(super) struct Four;
+
+pub(super) struct Slabs4 {
+    org: [Vec4; 3],
+    inv: [Vec4; 3],
+    near: [usize; 3],
+}
+
+impl Kernel for Four {
+    type Node = Wide;
+    type Slabs = Slabs4;
+    type Near = [f32; 4];
+
+    fn slabs(self, ray: &Ray) -> Slabs4 {
+        let i = [inv(ray.dir.x), inv(ray.dir.y), inv(ray.dir.z)];
+        Slabs4 {
+            org: [ray.origin.x, ray.origin.y, ray.origin.z].map(Vec4::splat),
+            inv: i.map(Vec4::splat),
+            near: near_planes(i),
+        }
+    }
+
+    #[inline(always)]
+    fn hit(self, n: &Wide, r: &Slabs4, t_min: f32, t_max: f32) -> (u32, [f32; 4]) {
+        let [nx, ny, nz] = r.near;
+        // `& 1`: provably in bounds, so no checks.
+        let tnx = (n.b[0][nx & 1] - r.org[0]) * r.inv[0];
+        let tfx = (n.b[0][(nx ^ 1) & 1] - r.org[0]) * r.inv[0];
+        let tny = (n.b[1][ny & 1] - r.org[1]) * r.inv[1];
+        let tfy = (n.b[1][(ny ^ 1) & 1] - r.org[1]) * r.inv[1];
+        let tnz = (n.b[2][nz & 1] - r.org[2]) * r.inv[2];
+        let tfz = (n.b[2][(nz ^ 1) & 1] - r.org[2]) * r.inv[2];
+        let near = tnx.max(tny).max(tnz.max(Vec4::splat(t_min)));
+        // Robust traversal (Ize 2013): the exit widened by 2 ulps of error.
+        let far = tfx.min(tfy).min(tfz.min(Vec4::splat(t_max))) * ROBUST;
+        (near.cmple(far).bitmask(), near.to_array())
+    }
+}
+
+/// The width of the nodes a tree is built with.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Width {
+    #[default]
+    Four,
+    /// Only on x86-64 CPUs with AVX2 (and the rest of x86-64-v3).
+    Eight,
+}
+
+impl Width {
+    /// The children a node holds.
+    pub fn lanes(self) -> u32 {
+        match self {
+            Width::Four => 4,
+            Width::Eight => 8,
+        }
+    }
+
+    /// The widest this CPU tests in one pass; `RAYSHELL_BVH=4` asks for
+    /// 4-wide nodes anyway (to compare the two).
+    pub fn detect() -> Width {
+        static WIDTH: std::sync::OnceLock<Width> = std::sync::OnceLock::new();
+        *WIDTH.get_or_init(|| {
+            let asked_four = std::env::var("RAYSHELL_BVH").is_ok_and(|v| v.trim() == "4");
+            #[cfg(target_arch = "x86_64")]
+            if !asked_four && Avx2::new().is_some() {
+                return Width::Eight;
+            }
+            let _ = asked_four;
+            Width::Four
+        })
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(super) use avx::{Avx2, Wide8};
+
+#[cfg(target_arch = "x86_64")]
+mod avx {
+    use pulp::x86::V3;
+    use std::arch::x86_64::{__m256, _CMP_LE_OS};
+
+    use super::{Aabb, Kernel, ROBUST, Ray, Slots, inv, near_planes};
+
+    /// A node of up to eight children: 256 bytes, four cache lines.
+    #[derive(Clone, Copy, Debug)]
+    #[repr(C, align(64))]
+    pub(in super::super) struct Wide8 {
+        b: [[[f32; 8]; 2]; 3],
+        child: [u32; 8],
+        count: [u32; 8],
+    }
+
+    impl Slots for Wide8 {
+        const N: usize = 8;
+        const EMPTY: Wide8 = Wide8 {
+            b: [[[f32::INFINITY; 8], [f32::NEG_INFINITY; 8]]; 3],
+            child: [0; 8],
+            count: [0; 8],
+        };
+
+        fn set(&mut self, i: usize, bounds: Aabb, child: u32, count: u32) {
+            for axis in 0..3 {
+                self.b[axis][0][i] = bounds.min[axis];
+                self.b[axis][1][i] = bounds.max[axis];
+            }
+            self.child[i] = child;
+            self.count[i] = count;
+        }
+
+        #[inline(always)]
+        fn child(&self, i: usize) -> (u32, u32) {
+            let i = i & 7;
+            (self.child[i], self.count[i])
+        }
+
+        fn lo(&self, axis: usize, i: usize) -> f32 {
+            self.b[axis][0][i]
+        }
+
+        fn hi(&self, axis: usize, i: usize) -> f32 {
+            self.b[axis][1][i]
+        }
+    }
+
+    /// The 8-wide test: the proof (a `V3` token) that this CPU has AVX2.
+    #[derive(Clone, Copy)]
+    pub(in super::super) struct Avx2(V3);
+
+    pub(in super::super) struct Slabs8 {
+        org: [__m256; 3],
+        inv: [__m256; 3],
+        near: [usize; 3],
+    }
+
+    impl Avx2 {
+        pub fn new() -> Option<Avx2> {
+            V3::try_new().map(Avx2)
+        }
+
+        /// Runs `f` compiled for AVX2: what it inlines (the walk, and the
+        /// slab tests in it) uses the 256-bit instructions.
+        #[inline(always)]
+        pub fn run<R>(self, f: impl FnOnce() -> R) -> R {
+            self.0.vectorize(f)
+        }
+    }
+
+    impl Kernel for Avx2 {
+        type Node = Wide8;
+        type Slabs = Slabs8;
+        type Near = [f32; 8];
+
+        #[inline(always)]
+        fn slabs(self, ray: &Ray) -> Slabs8 {
+            let avx = self.0.avx;
+            let i = [inv(ray.dir.x), inv(ray.dir.y), inv(ray.dir.z)];
+            Slabs8 {
+                org: [ray.origin.x, ray.origin.y, ray.origin.z].map(|o| avx._mm256_set1_ps(o)),
+                inv: i.map(|i| avx._mm256_set1_ps(i)),
+                near: near_planes(i),
+            }
+        }
+
+        /// The same arithmetic as the 4-wide test, lane for lane (no fused
+        /// multiply-adds; `min`/`max`/`<=` as SSE's), so a child's entry
+        /// and exit are the same to the bit in either kind of node.
+        #[inline(always)]
+        fn hit(self, n: &Wide8, r: &Slabs8, t_min: f32, t_max: f32) -> (u32, [f32; 8]) {
+            let avx = self.0.avx;
+            let [nx, ny, nz] = r.near;
+            let t = |axis: usize, side: usize| {
+                let b: __m256 = pulp::cast(n.b[axis][side & 1]);
+                avx._mm256_mul_ps(avx._mm256_sub_ps(b, r.org[axis]), r.inv[axis])
+            };
+            let (tnx, tfx) = (t(0, nx), t(0, nx ^ 1));
+            let (tny, tfy) = (t(1, ny), t(1, ny ^ 1));
+            let (tnz, tfz) = (t(2, nz), t(2, nz ^ 1));
+            let (min, max) = (|a, b| avx._mm256_min_ps(a, b), |a, b| avx._mm256_max_ps(a, b));
+            let near = max(max(tnx, tny), max(tnz, avx._mm256_set1_ps(t_min)));
+            let far = avx._mm256_mul_ps(
+                min(min(tfx, tfy), min(tfz, avx._mm256_set1_ps(t_max))),
+                avx._mm256_set1_ps(ROBUST),
+            );
+            let mask = avx._mm256_movemask_ps(avx._mm256_cmp_ps::<_CMP_LE_OS>(near, far));
+            (mask as u32, pulp::cast(near))
+        }
+    }
+}
