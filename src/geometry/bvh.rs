@@ -17,7 +17,9 @@ use super::object::{Local, Located, Object};
 use super::shapes::RayPre;
 use super::{Aabb, Hit, Ray, Shape};
 pub use wide::Width;
-use wide::{Avx2, Four, Kernel, Slots, Wide, Wide8};
+#[cfg(target_arch = "x86_64")]
+use wide::{Avx2, Wide8};
+use wide::{Four, Kernel, Slots, Wide};
 
 mod wide;
 

@@ -263,6 +263,7 @@ fn widths_agree() {
     let build = |w| Bvh::build_wide(shapes.len(), |i| shapes[i], Vec::new(), w);
     let (four, eight) = (build(Width::Four), build(Width::Eight));
     assert_eq!(four.stats().width, Width::Four);
+    #[cfg(target_arch = "x86_64")]
     if wide::Avx2::new().is_some() {
         assert_eq!(eight.stats().width, Width::Eight);
         assert!(eight.stats().nodes < four.stats().nodes);
