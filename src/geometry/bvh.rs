@@ -19,7 +19,7 @@ use super::{Aabb, Hit, Ray, Shape};
 pub use wide::Width;
 #[cfg(target_arch = "x86_64")]
 use wide::{Avx2, Wide8};
-use wide::{Four, Kernel, Slots, Wide};
+use wide::{Four, Kernel, Slots, Wide4};
 
 mod wide;
 
@@ -68,7 +68,7 @@ pub struct BvhStats {
 
 /// The walked tree's nodes, of the width chosen at build.
 enum Nodes {
-    Four(Vec<Wide>),
+    Four(Vec<Wide4>),
     #[cfg(target_arch = "x86_64")]
     Eight(Vec<Wide8>, Avx2),
 }

@@ -61,24 +61,27 @@ fn near_planes(i: [f32; 3]) -> [usize; 3] {
     i.map(|i| (i < 0.0) as usize)
 }
 
-/// A node of up to four children, their bounds in lanes by axis: 128
-/// bytes, two cache lines.
+/// A node of up to `N` children, their bounds in lanes by axis: 128 bytes
+/// (two cache lines) for four, 256 for eight.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
-pub(super) struct Wide {
+pub(super) struct Wide<const N: usize> {
     /// The children's bounds by axis: [lo, hi] for x, y and z.
-    b: [[Vec4; 2]; 3],
+    b: [[[f32; N]; 2]; 3],
     /// Child i: an interior node's index, or a leaf's first block.
-    child: [u32; 4],
+    child: [u32; N],
     /// Leaf child i's block counts (see `SHIFT` in the tree); 0 for an
     /// interior node.
-    count: [u32; 4],
+    count: [u32; N],
 }
 
-impl Slots for Wide {
-    const N: usize = 4;
-    const EMPTY: Wide =
-        Wide { b: [[Vec4::INFINITY, Vec4::NEG_INFINITY]; 3], child: [0; 4], count: [0; 4] };
+/// The 4-wide node; `Wide8` is the 8-wide one.
+pub(super) type Wide4 = Wide<4>;
+
+impl<const N: usize> Slots for Wide<N> {
+    const N: usize = N;
+    const EMPTY: Wide<N> =
+        Wide { b: [[[f32::INFINITY; N], [f32::NEG_INFINITY; N]]; 3], child: [0; N], count: [0; N] };
 
     fn set(&mut self, i: usize, bounds: Aabb, child: u32, count: u32) {
         for axis in 0..3 {
@@ -91,7 +94,8 @@ impl Slots for Wide {
 
     #[inline(always)]
     fn child(&self, i: usize) -> (u32, u32) {
-        let i = i & 3;
+        // N is a power of two: provably in bounds, so no checks.
+        let i = i & (N - 1);
         (self.child[i], self.count[i])
     }
 
@@ -115,7 +119,7 @@ pub(super) struct Slabs4 {
 }
 
 impl Kernel for Four {
-    type Node = Wide;
+    type Node = Wide4;
     type Slabs = Slabs4;
     type Near = [f32; 4];
 
@@ -129,15 +133,15 @@ impl Kernel for Four {
     }
 
     #[inline(always)]
-    fn hit(self, n: &Wide, r: &Slabs4, t_min: f32, t_max: f32) -> (u32, [f32; 4]) {
+    fn hit(self, n: &Wide4, r: &Slabs4, t_min: f32, t_max: f32) -> (u32, [f32; 4]) {
         let [nx, ny, nz] = r.near;
         // `& 1`: provably in bounds, so no checks.
-        let tnx = (n.b[0][nx & 1] - r.org[0]) * r.inv[0];
-        let tfx = (n.b[0][(nx ^ 1) & 1] - r.org[0]) * r.inv[0];
-        let tny = (n.b[1][ny & 1] - r.org[1]) * r.inv[1];
-        let tfy = (n.b[1][(ny ^ 1) & 1] - r.org[1]) * r.inv[1];
-        let tnz = (n.b[2][nz & 1] - r.org[2]) * r.inv[2];
-        let tfz = (n.b[2][(nz ^ 1) & 1] - r.org[2]) * r.inv[2];
+        let t = |axis: usize, side: usize| {
+            (Vec4::from_array(n.b[axis][side & 1]) - r.org[axis]) * r.inv[axis]
+        };
+        let (tnx, tfx) = (t(0, nx), t(0, nx ^ 1));
+        let (tny, tfy) = (t(1, ny), t(1, ny ^ 1));
+        let (tnz, tfz) = (t(2, nz), t(2, nz ^ 1));
         let near = tnx.max(tny).max(tnz.max(Vec4::splat(t_min)));
         // Robust traversal (Ize 2013): the exit widened by 2 ulps of error.
         let far = tfx.min(tfy).min(tfz.min(Vec4::splat(t_max))) * ROBUST;
@@ -187,48 +191,10 @@ mod avx {
     use pulp::x86::V3;
     use std::arch::x86_64::{__m256, _CMP_LE_OS};
 
-    use super::{Aabb, Kernel, ROBUST, Ray, Slots, inv, near_planes};
+    use super::{Kernel, ROBUST, Ray, inv, near_planes};
 
-    /// A node of up to eight children: 256 bytes, four cache lines.
-    #[derive(Clone, Copy, Debug)]
-    #[repr(C, align(64))]
-    pub(in super::super) struct Wide8 {
-        b: [[[f32; 8]; 2]; 3],
-        child: [u32; 8],
-        count: [u32; 8],
-    }
-
-    impl Slots for Wide8 {
-        const N: usize = 8;
-        const EMPTY: Wide8 = Wide8 {
-            b: [[[f32::INFINITY; 8], [f32::NEG_INFINITY; 8]]; 3],
-            child: [0; 8],
-            count: [0; 8],
-        };
-
-        fn set(&mut self, i: usize, bounds: Aabb, child: u32, count: u32) {
-            for axis in 0..3 {
-                self.b[axis][0][i] = bounds.min[axis];
-                self.b[axis][1][i] = bounds.max[axis];
-            }
-            self.child[i] = child;
-            self.count[i] = count;
-        }
-
-        #[inline(always)]
-        fn child(&self, i: usize) -> (u32, u32) {
-            let i = i & 7;
-            (self.child[i], self.count[i])
-        }
-
-        fn lo(&self, axis: usize, i: usize) -> f32 {
-            self.b[axis][0][i]
-        }
-
-        fn hi(&self, axis: usize, i: usize) -> f32 {
-            self.b[axis][1][i]
-        }
-    }
+    /// The 8-wide node.
+    pub(in super::super) type Wide8 = super::Wide<8>;
 
     /// The 8-wide test: the proof (a `V3` token) that this CPU has AVX2.
     #[derive(Clone, Copy)]
