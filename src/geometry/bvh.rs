@@ -82,14 +82,25 @@ impl Nodes {
         }
     }
 
-    /// The number of leaf slots, the bytes taken, and the root's bounds.
-    fn summary(&self) -> (usize, usize, Aabb) {
-        fn of<S: Slots>(n: &[S]) -> (usize, usize, Aabb) {
+    /// The number of leaf slots and the bytes taken (a walk over them all).
+    fn summary(&self) -> (usize, usize) {
+        fn of<S: Slots>(n: &[S]) -> (usize, usize) {
             let leaves = n.iter().map(|n| (0..S::N).filter(|&i| n.child(i).1 > 0).count()).sum();
-            let root = n.first().map_or(Aabb::EMPTY, |r| {
+            (leaves, std::mem::size_of_val(n))
+        }
+        match self {
+            Nodes::Four(n) => of(n),
+            #[cfg(target_arch = "x86_64")]
+            Nodes::Eight(n, _) => of(n),
+        }
+    }
+
+    /// The bounds of the root's children.
+    fn root_bounds(&self) -> Aabb {
+        fn of<S: Slots>(n: &[S]) -> Aabb {
+            n.first().map_or(Aabb::EMPTY, |r| {
                 (0..S::N).map(|i| r.bounds(i)).fold(Aabb::EMPTY, Aabb::union)
-            });
-            (leaves, std::mem::size_of_val(n), root)
+            })
         }
         match self {
             Nodes::Four(n) => of(n),
@@ -396,7 +407,7 @@ impl Bvh {
         if !self.unbounded.is_empty() {
             return Aabb::EMPTY;
         }
-        self.nodes.summary().2
+        self.nodes.root_bounds()
     }
 
     /// The closest hit in `(t_min, t_max)`, and the traversal steps taken
