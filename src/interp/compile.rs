@@ -149,6 +149,9 @@ enum Op {
     ForeachN(Vec<(Vec<Local>, Word)>, Body),
     Expr(CExpr),
     Return(Option<Word>),
+    /// `return [expr {...}]`: the expression, and the script of the
+    /// `[...]` for errors (as `SetExpr`).
+    ReturnExpr(CExpr, Rc<Script>),
     Break,
     Continue,
 }
@@ -164,7 +167,7 @@ impl Op {
             Op::Set(_, w) | Op::Return(Some(w)) | Op::GetElem(_, w) => word_runs_code(w),
             Op::SetElem(_, k, w) | Op::IncrElem(_, k, w) => word_runs_code(k) || word_runs_code(w),
             Op::AppendElem(_, _, k, ws) => word_runs_code(k) || ws.iter().any(word_runs_code),
-            Op::SetExpr(_, e, _) | Op::Expr(e) => e.runs_code(),
+            Op::SetExpr(_, e, _) | Op::Expr(e) | Op::ReturnExpr(e, _) => e.runs_code(),
             Op::Incr(_, By::Word(w)) => word_runs_code(w),
             Op::Incr(..) => false,
             Op::Append(_, ws) | Op::Lappend(_, ws) => ws.iter().any(word_runs_code),
@@ -576,7 +579,10 @@ impl Compiler<'_> {
                 Op::Direct(f, w.iter().map(|x| self.word(x)).collect())
             }
             ("return", 1) => Op::Return(None),
-            ("return", 2) => Op::Return(Some(self.word(&w[1]))),
+            ("return", 2) => match self.expr_subst(&w[1]) {
+                Some((e, script)) => Op::ReturnExpr(e, script),
+                None => Op::Return(Some(self.word(&w[1]))),
+            },
             ("break", 1) => Op::Break,
             ("continue", 1) => Op::Continue,
             _ => return None,
@@ -700,6 +706,15 @@ impl Interp {
         self.run_body_all(b, want)
     }
 
+    /// An error leaving the `[expr {...}]` of a `SetExpr` or `ReturnExpr`:
+    /// the trace its own script would add.
+    #[cold]
+    fn subst_error(&self, mut e: Exception, s: &Script) -> Exception {
+        let cmd = &s.cmds[0];
+        self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
+        e
+    }
+
     /// An error leaving command `i` of a body: its trace.
     #[cold]
     fn log_op(&self, mut e: Exception, b: &Body, i: usize) -> Exception {
@@ -753,20 +768,53 @@ impl Interp {
     /// A compiled `[...]`: its `return`, `break` or `continue` leave as
     /// the exceptions the uncompiled script would raise.
     pub(crate) fn run_nested(&mut self, b: &Body) -> TclResult {
-        // `[expr {...}]`, the most common substitution, straight through.
-        if let ([Op::Expr(e)], None) = (&b.ops[..], &b.script.error)
+        // The common substitutions of one command each take a fast path,
+        // out of line so that this frame stays small: it sits on the
+        // native stack under every call made inside the `[...]`, and a
+        // deep recursion runs out of L1 cache on the frames of its levels.
+        if let ([op], None) = (&b.ops[..], &b.script.error)
             && self.fast(b.epoch)
         {
-            return self.ceval(e).and_then(expr_result).map_err(|e| self.log_op(e, b, 0));
+            match op {
+                // `[expr {...}]`, the most common substitution.
+                Op::Expr(e) => return self.nested_expr(e, b),
+                // A pure builtin (`[lindex $l 3]`, `[string length $s]`):
+                // it runs no script, so it is no nesting level either.
+                Op::Direct(f, words) => return self.nested_direct(*f, words, b),
+                // One call (`[fib $n]`): what `run_body` would do for it.
+                Op::Call { words, cache } => {
+                    self.enter()?;
+                    let r = self.run_call(words, cache, &b.script, 0);
+                    self.leave();
+                    return r.map_err(|e| self.log_op(e, b, 0));
+                }
+                _ => {}
+            }
         }
-        // A pure builtin (`[lindex $l 3]`, `[string length $s]`): it runs
-        // no script, so it is no nesting level either.
-        if let ([Op::Direct(f, words)], None) = (&b.ops[..], &b.script.error)
-            && self.fast(b.epoch)
-        {
-            self.poll()?;
-            return self.run_direct(*f, words).map_err(|e| self.log_op(e, b, 0));
-        }
+        self.nested_body(b)
+    }
+
+    #[inline(never)]
+    fn nested_expr(&mut self, e: &CExpr, b: &Body) -> TclResult {
+        self.ceval(e).and_then(expr_result).map_err(|e| self.log_op(e, b, 0))
+    }
+
+    #[inline(never)]
+    fn nested_direct(&mut self, f: NativeFn, words: &[Word], b: &Body) -> TclResult {
+        self.poll()?;
+        self.run_direct(f, words).map_err(|e| self.log_op(e, b, 0))
+    }
+
+    /// A `DIRECT_OPS` command of a body (out of line: its argument vector
+    /// would widen the frame of every body that runs a call).
+    #[inline(never)]
+    fn direct_op(&mut self, f: NativeFn, words: &[Word]) -> TclResult {
+        self.run_direct(f, words)
+    }
+
+    /// A `[...]` of any other body, a nesting level of its own.
+    #[inline(never)]
+    fn nested_body(&mut self, b: &Body) -> TclResult {
         self.enter()?;
         let r = self.run_body(b, true);
         self.leave();
@@ -816,12 +864,13 @@ impl Interp {
                 self.incr_local(*i, name, by, want)
             }
             Op::SetExpr((i, name), e, s) => {
-                let r = self.ceval(e).and_then(slot_of_result).map_err(|mut e| {
-                    let cmd = &s.cmds[0];
-                    self.add_trace(&mut e, s.text(cmd), cmd.line, s.first_line, &s.file, false);
-                    e
-                })?;
+                let r =
+                    self.ceval(e).and_then(slot_of_result).map_err(|e| self.subst_error(e, s))?;
                 self.store_local(*i, name, r, want)
+            }
+            Op::ReturnExpr(e, s) => {
+                let v = self.ceval(e).and_then(expr_result).map_err(|e| self.subst_error(e, s))?;
+                Ok(Outcome::Return(v))
             }
             Op::Set((i, name), w) => {
                 let v = self.eval_word(w)?;
@@ -831,7 +880,7 @@ impl Interp {
             Op::Call { words, cache } => {
                 Ok(Outcome::Normal(Some(self.run_call(words, cache, script, at)?)))
             }
-            Op::Direct(f, words) => Ok(Outcome::Normal(Some(self.run_direct(*f, words)?))),
+            Op::Direct(f, words) => Ok(Outcome::Normal(Some(self.direct_op(*f, words)?))),
             Op::Append(..) | Op::Lappend(..) | Op::AppendElem(..) => {
                 let mark = crate::mem::mark();
                 let r = self.run_inline(op, want);
@@ -847,7 +896,12 @@ impl Interp {
 
     fn run_inline(&mut self, op: &Op, want: bool) -> Run<Outcome> {
         Ok(match op {
-            Op::Call { .. } | Op::Direct(..) | Op::Set(..) | Op::SetExpr(..) | Op::Incr(..) => {
+            Op::Call { .. }
+            | Op::Direct(..)
+            | Op::Set(..)
+            | Op::SetExpr(..)
+            | Op::ReturnExpr(..)
+            | Op::Incr(..) => {
                 unreachable!("run_op runs these")
             }
             Op::Get((i, name)) => Outcome::Normal(Some(self.read_local(*i, name)?)),

@@ -1059,6 +1059,9 @@ impl Interp {
         match w {
             Word::Lit(v) => Ok(v.clone()),
             Word::Local(i, name) => self.read_local(*i, name),
+            // Not through `eval_word_tree`: its frame would sit on the
+            // native stack under every call made inside the `[...]`.
+            Word::Compiled(b) => self.run_nested(b),
             _ => self.eval_word_tree(w),
         }
     }
@@ -1274,6 +1277,77 @@ impl Interp {
     }
 
     fn call_proc(&mut self, p: &Rc<Proc>, argv: &[Value]) -> TclResult {
+        // The common call: a compiled proc given exactly its parameters.
+        if p.lambda.is_none()
+            && !p.variadic
+            && argv.len() == p.params.len() + 1
+            && let Some(c) = self.compiled_body(p)
+        {
+            return self.call_compiled(p, &c, argv);
+        }
+        self.call_proc_general(p, argv)
+    }
+
+    /// `call_proc`'s common case, kept lean: its frame sits on the native
+    /// stack under each Tcl level.
+    fn call_compiled(&mut self, p: &Rc<Proc>, c: &CompiledProc, argv: &[Value]) -> TclResult {
+        let level = self.frames[self.cur].level + 1;
+        let mut objv = self.pools.objv.pop().unwrap_or_default();
+        objv.extend_from_slice(argv);
+        let mut slots = self.pools.slots.pop().unwrap_or_default();
+        slots.extend(argv[1..].iter().map(|v| Slot::Val(v.clone())));
+        slots.resize_with(c.names.len(), || Slot::Empty);
+        let mut frame = Frame::new(p.ns.clone(), level, self.cur, objv);
+        frame.proc = Some(p.clone());
+        frame.slots = slots;
+        frame.names = Some(c.names.clone());
+        self.frames.push(frame);
+        let saved = self.cur;
+        self.cur = self.frames.len() - 1;
+        let saved_ns = std::mem::replace(&mut self.ns, p.ns.clone());
+        let r = self.run_compiled(c);
+        self.ns = saved_ns;
+        if !self.var_traces.is_empty() {
+            return self.leave_traced_frame(saved, p, argv, r);
+        }
+        if let Some(f) = self.frames.pop() {
+            self.pools.recycle(f);
+        }
+        self.cur = saved;
+        match r {
+            Ok(v) => Ok(v),
+            Err(e) => proc_exit(p, &argv[0], e),
+        }
+    }
+
+    /// The end of `call_compiled` while variable traces exist: the unset
+    /// traces of the frame's locals fire in the caller's frame.
+    #[cold]
+    #[inline(never)]
+    fn leave_traced_frame(
+        &mut self,
+        saved: usize,
+        p: &Proc,
+        argv: &[Value],
+        r: TclResult,
+    ) -> TclResult {
+        let dying = self.traced_locals(self.cur);
+        if let Some(f) = self.frames.pop() {
+            self.pools.recycle(f);
+        }
+        self.cur = saved;
+        if !dying.is_empty() {
+            self.fire_frame_unset_traces(dying);
+        }
+        match r {
+            Ok(v) => Ok(v),
+            Err(e) => proc_exit(p, &argv[0], e),
+        }
+    }
+
+    /// Every other call of a proc or lambda.
+    #[inline(never)]
+    fn call_proc_general(&mut self, p: &Rc<Proc>, argv: &[Value]) -> TclResult {
         // The words before the arguments: the name, or `apply` and the term.
         let skip = if p.lambda.is_some() { 2 } else { 1 };
         let n_args = argv.len() - skip;
@@ -1394,6 +1468,14 @@ impl Interp {
         {
             return Some(c.clone());
         }
+        self.compile_body_now(p)
+    }
+
+    /// `compiled_body`'s slow path, kept out of line so that the frame of
+    /// every proc call does not carry the compiler's locals.
+    #[cold]
+    #[inline(never)]
+    fn compile_body_now(&mut self, p: &Proc) -> Option<Rc<CompiledProc>> {
         // Command names resolve as in the proc's own namespace.
         let ns = std::mem::replace(&mut self.ns, p.ns.clone());
         let c = compile::compile_proc(self, p);
@@ -1413,9 +1495,7 @@ impl Interp {
         match r {
             Ok(Outcome::Normal(v)) => Ok(v.unwrap_or_default()),
             Ok(Outcome::Return(v)) => Ok(v),
-            Ok(Outcome::Break) => Err(Exception::flow(Code::Break, Value::empty())),
-            Ok(Outcome::Continue) => Err(Exception::flow(Code::Continue, Value::empty())),
-            Err(e) => Err(end_unit(e, c.body.first_line())),
+            other => compiled_exit(other, c),
         }
     }
 
@@ -2200,6 +2280,20 @@ fn end_unit(mut e: Exception, first_line: u32) -> Exception {
     e.logged = false;
     e.abs_line = 0;
     e
+}
+
+/// How a compiled proc body ended other than with a value: `break` and
+/// `continue` as the exceptions, an error closing its unit.
+#[cold]
+#[inline(never)]
+fn compiled_exit(r: Result<Outcome, Exception>, c: &CompiledProc) -> TclResult {
+    match r {
+        Ok(Outcome::Normal(v)) => Ok(v.unwrap_or_default()),
+        Ok(Outcome::Return(v)) => Ok(v),
+        Ok(Outcome::Break) => Err(Exception::flow(Code::Break, Value::empty())),
+        Ok(Outcome::Continue) => Err(Exception::flow(Code::Continue, Value::empty())),
+        Err(e) => Err(end_unit(e, c.body.first_line())),
+    }
 }
 
 /// What leaves a proc's body, as the caller sees it: `return` ends here,
