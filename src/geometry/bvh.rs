@@ -66,6 +66,17 @@ pub struct BvhStats {
     pub width: Width,
 }
 
+/// The objects of a block whose boxes the segment `(t_min, t_max)` of
+/// the ray enters (the others `NONE`): the tree's own slab test, on the
+/// boxes the block keeps, so an object is tested (transformed, solved in
+/// double precision) only where it can be hit. The test is conservative
+/// as the walk's is, so it changes no hit.
+fn entered(b: &Block, ray: &Ray, t_min: f32, t_max: f32) -> [u32; 4] {
+    let boxes = Wide4::boxes([b.v[0], b.v[1], b.v[2]], [b.v[3], b.v[4], b.v[5]]);
+    let (mask, _) = Four.hit(&boxes, &Four.slabs(ray), t_min, t_max);
+    std::array::from_fn(|l| if mask & (1 << l) != 0 { b.prim[l] } else { blocks::NONE })
+}
+
 /// The walked tree's nodes, of the width chosen at build.
 enum Nodes {
     Four(Vec<Wide4>),
@@ -473,7 +484,8 @@ impl Bvh {
                     }
                 }
                 for b in objects {
-                    self.objects_hit(&b.prim, ray, t_min, t_max, &mut consider);
+                    let prims = entered(b, ray, t_min, *t_max);
+                    self.objects_hit(&prims, ray, t_min, t_max, &mut consider);
                 }
                 false
             });
@@ -616,7 +628,8 @@ impl Bvh {
                 }
             }
             for b in objects {
-                through *= self.objects_through(&b.prim, ray, (t_min, *t_max), &mut pass);
+                let prims = entered(b, ray, t_min, *t_max);
+                through *= self.objects_through(&prims, ray, (t_min, *t_max), &mut pass);
                 if through == Vec3::ZERO {
                     return true;
                 }

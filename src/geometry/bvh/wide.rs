@@ -78,6 +78,14 @@ pub(super) struct Wide<const N: usize> {
 /// The 4-wide node; `Wide8` is the 8-wide one.
 pub(super) type Wide4 = Wide<4>;
 
+impl Wide4 {
+    /// Four boxes by their corners' lanes (no children), to slab-test.
+    pub fn boxes(lo: [Vec4; 3], hi: [Vec4; 3]) -> Wide4 {
+        let b = std::array::from_fn(|axis| [lo[axis].to_array(), hi[axis].to_array()]);
+        Wide { b, child: [0; 4], count: [0; 4] }
+    }
+}
+
 impl<const N: usize> Slots for Wide<N> {
     const N: usize = N;
     const EMPTY: Wide<N> =
