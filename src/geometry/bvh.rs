@@ -19,7 +19,7 @@ use super::{Aabb, Hit, Ray, Shape};
 pub use wide::Width;
 #[cfg(target_arch = "x86_64")]
 use wide::{Avx2, Wide8};
-use wide::{Four, Kernel, Slots, Wide4};
+use wide::{Four, Kernel, Slabs4, Slots, Wide4};
 
 mod wide;
 
@@ -71,9 +71,11 @@ pub struct BvhStats {
 /// boxes the block keeps, so an object is tested (transformed, solved in
 /// double precision) only where it can be hit. The test is conservative
 /// as the walk's is, so it changes no hit.
-fn entered(b: &Block, ray: &Ray, t_min: f32, t_max: f32) -> [u32; 4] {
+/// `slabs`: the ray's slab constants, made at its first object block.
+fn entered(b: &Block, ray: &Ray, slabs: &mut Option<Slabs4>, t_min: f32, t_max: f32) -> [u32; 4] {
     let boxes = Wide4::boxes([b.v[0], b.v[1], b.v[2]], [b.v[3], b.v[4], b.v[5]]);
-    let (mask, _) = Four.hit(&boxes, &Four.slabs(ray), t_min, t_max);
+    let slabs = slabs.get_or_insert_with(|| Four.slabs(ray));
+    let (mask, _) = Four.hit(&boxes, slabs, t_min, t_max);
     std::array::from_fn(|l| if mask & (1 << l) != 0 { b.prim[l] } else { blocks::NONE })
 }
 
@@ -433,6 +435,7 @@ impl Bvh {
         // The triangle test's per-ray constants, made at the first leaf
         // (many camera rays reach none).
         let mut pre: Option<Pre4> = None;
+        let mut slabs = None;
         let id = |prim: u32| self.recs[prim as usize].id;
         let mut consider = |hit: Hit, t_max: &mut f32| {
             let better = match best {
@@ -484,7 +487,7 @@ impl Bvh {
                     }
                 }
                 for b in objects {
-                    let prims = entered(b, ray, t_min, *t_max);
+                    let prims = entered(b, ray, &mut slabs, t_min, *t_max);
                     self.objects_hit(&prims, ray, t_min, t_max, &mut consider);
                 }
                 false
@@ -591,6 +594,7 @@ impl Bvh {
         }
         let mut t_end = t_max;
         let mut pre: Option<Pre4> = None;
+        let mut slabs = None;
         let material = |prim: u32| self.recs[prim as usize].material;
         self.traverse::<false>(ray, t_min, &mut t_end, |tris, spheres, objects, t_max| {
             for b in tris {
@@ -628,7 +632,7 @@ impl Bvh {
                 }
             }
             for b in objects {
-                let prims = entered(b, ray, t_min, *t_max);
+                let prims = entered(b, ray, &mut slabs, t_min, *t_max);
                 through *= self.objects_through(&prims, ray, (t_min, *t_max), &mut pass);
                 if through == Vec3::ZERO {
                     return true;

@@ -67,7 +67,7 @@ pub fn roots(c: &[f64], lo: f64, hi: f64, out: &mut [f64; MAX_DEGREE]) -> usize 
 
 /// The roots of a·x² + b·x + c in `(lo, hi)`, in the cancellation-free
 /// form.
-fn quadratic(a: f64, b: f64, c: f64, lo: f64, hi: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
+pub fn quadratic(a: f64, b: f64, c: f64, lo: f64, hi: f64, out: &mut [f64; MAX_DEGREE]) -> usize {
     let disc = b * b - 4.0 * a * c;
     if disc < 0.0 {
         return 0;

@@ -167,13 +167,21 @@ impl Solid {
                 let b = 2.0 * (o.x * d.x + o.y * d.y - rz * k * d.z);
                 let c = o.x * o.x + o.y * o.y - rz * rz;
                 let mut roots = [0.0; poly::MAX_DEGREE];
-                let n = poly::roots(&[c, b, a], f64::NEG_INFINITY, f64::INFINITY, &mut roots);
+                let (lo, hi) = (f64::NEG_INFINITY, f64::INFINITY);
+                // What `roots` does with a quadratic, without its general
+                // case around it (a ray along a cylinder's axis has a = 0).
+                let n = if a != 0.0 {
+                    poly::quadratic(a, b, c, lo, hi, &mut roots)
+                } else {
+                    poly::roots(&[c, b, a], lo, hi, &mut roots)
+                };
                 for &t in &roots[..n] {
                     let z = o.z + t * d.z;
                     if (0.0..=1.0).contains(&z) {
                         out.push(t, SIDE);
                     }
                 }
+                // The side's crossings come in order; the caps' need sorting.
                 if capped && d.z != 0.0 {
                     for (z, r, part) in [(0.0, r0, CAP0), (1.0, r1, CAP1)] {
                         let t = (z - o.z) / d.z;
@@ -182,8 +190,8 @@ impl Solid {
                             out.push(t, part);
                         }
                     }
+                    out.sort();
                 }
-                out.sort();
             }
             Solid::Disk { inner } => {
                 if d.z != 0.0 {
