@@ -73,9 +73,9 @@ pub struct BvhStats {
 /// as the walk's is, so it changes no hit.
 /// `slabs`: the ray's slab constants, made at its first object block.
 fn entered(b: &Block, ray: &Ray, slabs: &mut Option<Slabs4>, t_min: f32, t_max: f32) -> [u32; 4] {
-    let boxes = Wide4::boxes([b.v[0], b.v[1], b.v[2]], [b.v[3], b.v[4], b.v[5]]);
+    let boxes = [[b.v[0], b.v[1], b.v[2]], [b.v[3], b.v[4], b.v[5]]];
     let slabs = slabs.get_or_insert_with(|| Four.slabs(ray));
-    let (mask, _) = Four.hit(&boxes, slabs, t_min, t_max);
+    let mask = Four.hit_boxes(&boxes, slabs, t_min, t_max);
     std::array::from_fn(|l| if mask & (1 << l) != 0 { b.prim[l] } else { blocks::NONE })
 }
 

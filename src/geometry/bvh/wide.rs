@@ -78,14 +78,6 @@ pub(super) struct Wide<const N: usize> {
 /// The 4-wide node; `Wide8` is the 8-wide one.
 pub(super) type Wide4 = Wide<4>;
 
-impl Wide4 {
-    /// Four boxes by their corners' lanes (no children), to slab-test.
-    pub fn boxes(lo: [Vec4; 3], hi: [Vec4; 3]) -> Wide4 {
-        let b = std::array::from_fn(|axis| [lo[axis].to_array(), hi[axis].to_array()]);
-        Wide { b, child: [0; 4], count: [0; 4] }
-    }
-}
-
 impl<const N: usize> Slots for Wide<N> {
     const N: usize = N;
     const EMPTY: Wide<N> =
@@ -142,19 +134,37 @@ impl Kernel for Four {
 
     #[inline(always)]
     fn hit(self, n: &Wide4, r: &Slabs4, t_min: f32, t_max: f32) -> (u32, [f32; 4]) {
-        let [nx, ny, nz] = r.near;
         // `& 1`: provably in bounds, so no checks.
-        let t = |axis: usize, side: usize| {
-            (Vec4::from_array(n.b[axis][side & 1]) - r.org[axis]) * r.inv[axis]
-        };
-        let (tnx, tfx) = (t(0, nx), t(0, nx ^ 1));
-        let (tny, tfy) = (t(1, ny), t(1, ny ^ 1));
-        let (tnz, tfz) = (t(2, nz), t(2, nz ^ 1));
-        let near = tnx.max(tny).max(tnz.max(Vec4::splat(t_min)));
-        // Robust traversal (Ize 2013): the exit widened by 2 ulps of error.
-        let far = tfx.min(tfy).min(tfz.min(Vec4::splat(t_max))) * ROBUST;
-        (near.cmple(far).bitmask(), near.to_array())
+        slab4(|axis, side| Vec4::from_array(n.b[axis][side & 1]), r, t_min, t_max)
     }
+}
+
+impl Four {
+    /// The same test on four boxes held as lanes: `[lo, hi]`, each by axis.
+    #[inline(always)]
+    pub fn hit_boxes(self, b: &[[Vec4; 3]; 2], r: &Slabs4, t_min: f32, t_max: f32) -> u32 {
+        slab4(|axis, side| b[side & 1][axis], r, t_min, t_max).0
+    }
+}
+
+/// The 4-wide slab test on the boxes whose planes `plane(axis, side)`
+/// gives (side 0: lo, 1: hi).
+#[inline(always)]
+fn slab4(
+    plane: impl Fn(usize, usize) -> Vec4,
+    r: &Slabs4,
+    t_min: f32,
+    t_max: f32,
+) -> (u32, [f32; 4]) {
+    let [nx, ny, nz] = r.near;
+    let t = |axis: usize, side: usize| (plane(axis, side) - r.org[axis]) * r.inv[axis];
+    let (tnx, tfx) = (t(0, nx), t(0, nx ^ 1));
+    let (tny, tfy) = (t(1, ny), t(1, ny ^ 1));
+    let (tnz, tfz) = (t(2, nz), t(2, nz ^ 1));
+    let near = tnx.max(tny).max(tnz.max(Vec4::splat(t_min)));
+    // Robust traversal (Ize 2013): the exit widened by 2 ulps of error.
+    let far = tfx.min(tfy).min(tfz.min(Vec4::splat(t_max))) * ROBUST;
+    (near.cmple(far).bitmask(), near.to_array())
 }
 
 /// The width of the nodes a tree is built with.
