@@ -1277,15 +1277,15 @@ impl Interp {
     }
 
     fn call_proc(&mut self, p: &Rc<Proc>, argv: &[Value]) -> TclResult {
+        let compiled = if p.lambda.is_none() { self.compiled_body(p) } else { None };
         // The common call: a compiled proc given exactly its parameters.
-        if p.lambda.is_none()
+        if let Some(c) = &compiled
             && !p.variadic
             && argv.len() == p.params.len() + 1
-            && let Some(c) = self.compiled_body(p)
         {
-            return self.call_compiled(p, &c, argv);
+            return self.call_compiled(p, c, argv);
         }
-        self.call_proc_general(p, argv)
+        self.call_proc_general(p, compiled, argv)
     }
 
     /// `call_proc`'s common case, kept lean: its frame sits on the native
@@ -1308,7 +1308,7 @@ impl Interp {
         let r = self.run_compiled(c);
         self.ns = saved_ns;
         if !self.var_traces.is_empty() {
-            return self.leave_traced_frame(saved, p, argv, r);
+            return self.leave_proc_frame(saved, p, &argv[0], r);
         }
         if let Some(f) = self.frames.pop() {
             self.pools.recycle(f);
@@ -1320,18 +1320,19 @@ impl Interp {
         }
     }
 
-    /// The end of `call_compiled` while variable traces exist: the unset
-    /// traces of the frame's locals fire in the caller's frame.
-    #[cold]
+    /// A proc's frame left, in general: the unset traces of its locals
+    /// fire in the caller's frame (`saved`), and the result is what the
+    /// caller of proc `name` sees.
     #[inline(never)]
-    fn leave_traced_frame(
+    fn leave_proc_frame(
         &mut self,
         saved: usize,
         p: &Proc,
-        argv: &[Value],
+        name: &Value,
         r: TclResult,
     ) -> TclResult {
-        let dying = self.traced_locals(self.cur);
+        let dying =
+            if self.var_traces.is_empty() { Vec::new() } else { self.traced_locals(self.cur) };
         if let Some(f) = self.frames.pop() {
             self.pools.recycle(f);
         }
@@ -1341,37 +1342,29 @@ impl Interp {
         }
         match r {
             Ok(v) => Ok(v),
-            Err(e) => proc_exit(p, &argv[0], e),
+            Err(e) => proc_exit(p, name, e),
         }
     }
 
-    /// Every other call of a proc or lambda.
+    /// Every other call of a proc or lambda: defaults, `args`, a wrong
+    /// number of arguments, a lambda, a body that does not compile.
     #[inline(never)]
-    fn call_proc_general(&mut self, p: &Rc<Proc>, argv: &[Value]) -> TclResult {
+    fn call_proc_general(
+        &mut self,
+        p: &Rc<Proc>,
+        compiled: Option<Rc<CompiledProc>>,
+        argv: &[Value],
+    ) -> TclResult {
         // The words before the arguments: the name, or `apply` and the term.
         let skip = if p.lambda.is_some() { 2 } else { 1 };
-        let n_args = argv.len() - skip;
-        let compiled = if p.lambda.is_none() { self.compiled_body(p) } else { None };
         let level = self.frames[self.cur].level + 1;
         let mut objv = self.pools.objv.pop().unwrap_or_default();
         objv.extend_from_slice(argv);
         let mut frame = Frame::new(p.ns.clone(), level, self.cur, objv);
         frame.proc = Some(p.clone());
-        match &compiled {
-            // The parameters: the first slots of a compiled body.
-            Some(c) if !p.variadic && n_args == p.params.len() => {
-                let mut slots = self.pools.slots.pop().unwrap_or_default();
-                slots.extend(argv[skip..].iter().map(|v| Slot::Val(v.clone())));
-                slots.resize_with(c.names.len(), || Slot::Empty);
-                frame.slots = slots;
-                frame.names = Some(c.names.clone());
-            }
-            _ => {
-                if let Err(e) = self.bind_params(&mut frame, p, compiled.as_deref(), argv, skip) {
-                    self.pools.recycle(frame);
-                    return Err(e);
-                }
-            }
+        if let Err(e) = self.bind_params(&mut frame, p, compiled.as_deref(), argv, skip) {
+            self.pools.recycle(frame);
+            return Err(e);
         }
         self.frames.push(frame);
         let saved = self.cur;
@@ -1381,20 +1374,8 @@ impl Interp {
             Some(c) => self.run_compiled(c),
             None => self.run_proc_script(p),
         };
-        let dying =
-            if self.var_traces.is_empty() { Vec::new() } else { self.traced_locals(self.cur) };
         self.ns = saved_ns;
-        if let Some(f) = self.frames.pop() {
-            self.pools.recycle(f);
-        }
-        self.cur = saved;
-        if !dying.is_empty() {
-            self.fire_frame_unset_traces(dying);
-        }
-        match r {
-            Ok(v) => Ok(v),
-            Err(e) => proc_exit(p, &argv[skip - 1], e),
-        }
+        self.leave_proc_frame(saved, p, &argv[skip - 1], r)
     }
 
     /// A proc's parameters bound in its new frame, in general: defaults,
