@@ -1291,20 +1291,13 @@ impl Interp {
     /// `call_proc`'s common case, kept lean: its frame sits on the native
     /// stack under each Tcl level.
     fn call_compiled(&mut self, p: &Rc<Proc>, c: &CompiledProc, argv: &[Value]) -> TclResult {
-        let level = self.frames[self.cur].level + 1;
-        let mut objv = self.pools.objv.pop().unwrap_or_default();
-        objv.extend_from_slice(argv);
+        let mut frame = self.proc_frame(p, argv);
         let mut slots = self.pools.slots.pop().unwrap_or_default();
         slots.extend(argv[1..].iter().map(|v| Slot::Val(v.clone())));
         slots.resize_with(c.names.len(), || Slot::Empty);
-        let mut frame = Frame::new(p.ns.clone(), level, self.cur, objv);
-        frame.proc = Some(p.clone());
         frame.slots = slots;
         frame.names = Some(c.names.clone());
-        self.frames.push(frame);
-        let saved = self.cur;
-        self.cur = self.frames.len() - 1;
-        let saved_ns = std::mem::replace(&mut self.ns, p.ns.clone());
+        let (saved, saved_ns) = self.push_proc_frame(p, frame);
         let r = self.run_compiled(c);
         self.ns = saved_ns;
         if !self.var_traces.is_empty() {
@@ -1318,6 +1311,28 @@ impl Interp {
             Ok(v) => Ok(v),
             Err(e) => proc_exit(p, &argv[0], e),
         }
+    }
+
+    /// A new frame for a call of `p` with the words `argv`, one level
+    /// below the current one (its variables not bound yet).
+    #[inline(always)]
+    fn proc_frame(&mut self, p: &Rc<Proc>, argv: &[Value]) -> Frame {
+        let level = self.frames[self.cur].level + 1;
+        let mut objv = self.pools.objv.pop().unwrap_or_default();
+        objv.extend_from_slice(argv);
+        let mut frame = Frame::new(p.ns.clone(), level, self.cur, objv);
+        frame.proc = Some(p.clone());
+        frame
+    }
+
+    /// Makes `frame` the current one, in `p`'s namespace; returns what to
+    /// restore after: the caller's frame and namespace.
+    #[inline(always)]
+    fn push_proc_frame(&mut self, p: &Proc, frame: Frame) -> (usize, Rc<str>) {
+        self.frames.push(frame);
+        let saved = self.cur;
+        self.cur = self.frames.len() - 1;
+        (saved, std::mem::replace(&mut self.ns, p.ns.clone()))
     }
 
     /// A proc's frame left, in general: the unset traces of its locals
@@ -1357,19 +1372,12 @@ impl Interp {
     ) -> TclResult {
         // The words before the arguments: the name, or `apply` and the term.
         let skip = if p.lambda.is_some() { 2 } else { 1 };
-        let level = self.frames[self.cur].level + 1;
-        let mut objv = self.pools.objv.pop().unwrap_or_default();
-        objv.extend_from_slice(argv);
-        let mut frame = Frame::new(p.ns.clone(), level, self.cur, objv);
-        frame.proc = Some(p.clone());
+        let mut frame = self.proc_frame(p, argv);
         if let Err(e) = self.bind_params(&mut frame, p, compiled.as_deref(), argv, skip) {
             self.pools.recycle(frame);
             return Err(e);
         }
-        self.frames.push(frame);
-        let saved = self.cur;
-        self.cur = self.frames.len() - 1;
-        let saved_ns = std::mem::replace(&mut self.ns, p.ns.clone());
+        let (saved, saved_ns) = self.push_proc_frame(p, frame);
         let r = match &compiled {
             Some(c) => self.run_compiled(c),
             None => self.run_proc_script(p),
@@ -1476,7 +1484,9 @@ impl Interp {
         match r {
             Ok(Outcome::Normal(v)) => Ok(v.unwrap_or_default()),
             Ok(Outcome::Return(v)) => Ok(v),
-            other => compiled_exit(other, c),
+            Ok(Outcome::Break) => Err(Exception::flow(Code::Break, Value::empty())),
+            Ok(Outcome::Continue) => Err(Exception::flow(Code::Continue, Value::empty())),
+            Err(e) => Err(end_unit(e, c.body.first_line())),
         }
     }
 
@@ -2261,20 +2271,6 @@ fn end_unit(mut e: Exception, first_line: u32) -> Exception {
     e.logged = false;
     e.abs_line = 0;
     e
-}
-
-/// How a compiled proc body ended other than with a value: `break` and
-/// `continue` as the exceptions, an error closing its unit.
-#[cold]
-#[inline(never)]
-fn compiled_exit(r: Result<Outcome, Exception>, c: &CompiledProc) -> TclResult {
-    match r {
-        Ok(Outcome::Normal(v)) => Ok(v.unwrap_or_default()),
-        Ok(Outcome::Return(v)) => Ok(v),
-        Ok(Outcome::Break) => Err(Exception::flow(Code::Break, Value::empty())),
-        Ok(Outcome::Continue) => Err(Exception::flow(Code::Continue, Value::empty())),
-        Err(e) => Err(end_unit(e, c.body.first_line())),
-    }
 }
 
 /// What leaves a proc's body, as the caller sees it: `return` ends here,
