@@ -21,7 +21,12 @@ pub use wide::Width;
 use wide::{Avx2, Wide8};
 use wide::{Four, Kernel, Slabs4, Slots, Wide4};
 
+mod packet;
 mod wide;
+
+pub use packet::PACKET;
+#[cfg(test)]
+use packet::Rays;
 
 /// SAH buckets along the split axis.
 const BINS: usize = 16;
@@ -77,6 +82,46 @@ fn entered(b: &Block, ray: &Ray, slabs: &mut Option<Slabs4>, t_min: f32, t_max: 
     let slabs = slabs.get_or_insert_with(|| Four.slabs(ray));
     let mask = Four.hit_boxes(&boxes, slabs, t_min, t_max);
     std::array::from_fn(|l| if mask & (1 << l) != 0 { b.prim[l] } else { blocks::NONE })
+}
+
+/// The closest hit along one ray so far. Hits within `TIE` of each other
+/// (coplanar surfaces) go to the primitive added first, whatever the
+/// tree's layout, the order of the walk or the lane.
+#[derive(Clone, Copy, Default)]
+struct Closest {
+    best: Option<Hit>,
+    /// The scene number of `best`, looked up only when a tie needs it.
+    best_id: Option<u32>,
+}
+
+impl Closest {
+    /// Keeps `hit` if it is better, shortening `t_max` to it.
+    #[inline(always)]
+    fn consider(&mut self, recs: &[Rec], hit: Hit, t_max: &mut f32) {
+        let id = |prim: u32| recs[prim as usize].id;
+        let better = match self.best {
+            None => true,
+            Some(b) if hit.t < b.t * (1.0 - TIE) => true,
+            // (A block's lanes were tested against the same limit, so
+            // a lane may lie beyond the band of one found before it.)
+            Some(b) if hit.t <= b.t * (1.0 + TIE) => {
+                let b_id = *self.best_id.get_or_insert_with(|| id(b.prim));
+                let hit_id = id(hit.prim);
+                if hit_id < b_id {
+                    self.best_id = Some(hit_id);
+                    self.best = Some(hit);
+                    *t_max = t_max.min(hit.t * (1.0 + TIE));
+                }
+                return;
+            }
+            Some(_) => false,
+        };
+        if better {
+            self.best = Some(hit);
+            self.best_id = None;
+            *t_max = t_max.min(hit.t * (1.0 + TIE));
+        }
+    }
 }
 
 /// The walked tree's nodes, of the width chosen at build.
@@ -428,71 +473,64 @@ impl Bvh {
     /// of each other (coplanar surfaces) go to the primitive added first,
     /// whatever the tree's layout, the order of the walk or the lane.
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> (Option<Hit>, u32) {
-        let mut best: Option<Hit> = None;
-        // The scene number of `best`, looked up only when a tie needs it.
-        let mut best_id: Option<u32> = None;
+        let mut c = Closest::default();
         let mut t_max = t_max;
         // The triangle test's per-ray constants, made at the first leaf
         // (many camera rays reach none).
         let mut pre: Option<Pre4> = None;
         let mut slabs = None;
-        let id = |prim: u32| self.recs[prim as usize].id;
-        let mut consider = |hit: Hit, t_max: &mut f32| {
-            let better = match best {
-                None => true,
-                Some(b) if hit.t < b.t * (1.0 - TIE) => true,
-                // (A block's lanes were tested against the same limit, so
-                // a lane may lie beyond the band of one found before it.)
-                Some(b) if hit.t <= b.t * (1.0 + TIE) => {
-                    let b_id = *best_id.get_or_insert_with(|| id(b.prim));
-                    let hit_id = id(hit.prim);
-                    if hit_id < b_id {
-                        best_id = Some(hit_id);
-                        best = Some(hit);
-                        *t_max = t_max.min(hit.t * (1.0 + TIE));
-                    }
-                    return;
-                }
-                Some(_) => false,
-            };
-            if better {
-                best = Some(hit);
-                best_id = None;
-                *t_max = t_max.min(hit.t * (1.0 + TIE));
-            }
-        };
         // Objects without bounds first: a near plane shortens the walk.
         if !self.unbounded.is_empty() {
+            let mut consider = |hit, t_max: &mut f32| c.consider(&self.recs, hit, t_max);
             self.objects_hit(&self.unbounded, ray, t_min, &mut t_max, &mut consider);
         }
-        let steps =
-            self.traverse::<true>(ray, t_min, &mut t_max, |tris, spheres, objects, t_max| {
-                for b in tris {
-                    let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
-                    let (mut mask, t, [u, v, w]) = b.triangles(pre, t_min, *t_max);
-                    while mask != 0 {
-                        let l = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        let det = u[l] + v[l] + w[l];
-                        let uv = [v[l] / det, w[l] / det];
-                        consider(Hit { t: t[l], prim: b.prim[l], uv, sub: 0 }, t_max);
-                    }
-                }
-                for b in spheres {
-                    let (mut mask, t) = b.spheres(ray, t_min, *t_max);
-                    while mask != 0 {
-                        let l = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
-                        consider(Hit { t: t[l], prim: b.prim[l], uv: [0.0; 2], sub: 0 }, t_max);
-                    }
-                }
-                for b in objects {
-                    let prims = entered(b, ray, &mut slabs, t_min, *t_max);
-                    self.objects_hit(&prims, ray, t_min, t_max, &mut consider);
-                }
-                false
-            });
-        (best, steps)
+        let steps = self.traverse::<true>(ray, t_min, &mut t_max, |tris, spheres, objects, t_max| {
+            let leaf = (tris, spheres, objects);
+            self.leaf_closest(ray, (&mut pre, &mut slabs), leaf, t_min, t_max, &mut c);
+            false
+        });
+        (c.best, steps)
+    }
+
+    /// Tests a leaf's blocks against one ray, passing its hits to `c`:
+    /// the leaf step of the closest-hit walk, of single rays and packets
+    /// alike. `pre` and `slabs`: the ray's constants, made when first
+    /// needed.
+    #[inline(always)]
+    fn leaf_closest(
+        &self,
+        ray: &Ray,
+        (pre, slabs): (&mut Option<Pre4>, &mut Option<Slabs4>),
+        (tris, spheres, objects): (&[Block], &[Block], &[Block]),
+        t_min: f32,
+        t_max: &mut f32,
+        c: &mut Closest,
+    ) {
+        for b in tris {
+            let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
+            let (mut mask, t, [u, v, w]) = b.triangles(pre, t_min, *t_max);
+            while mask != 0 {
+                let l = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let det = u[l] + v[l] + w[l];
+                let uv = [v[l] / det, w[l] / det];
+                c.consider(&self.recs, Hit { t: t[l], prim: b.prim[l], uv, sub: 0 }, t_max);
+            }
+        }
+        for b in spheres {
+            let (mut mask, t) = b.spheres(ray, t_min, *t_max);
+            while mask != 0 {
+                let l = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let hit = Hit { t: t[l], prim: b.prim[l], uv: [0.0; 2], sub: 0 };
+                c.consider(&self.recs, hit, t_max);
+            }
+        }
+        for b in objects {
+            let prims = entered(b, ray, slabs, t_min, *t_max);
+            let mut consider = |hit, t_max: &mut f32| c.consider(&self.recs, hit, t_max);
+            self.objects_hit(&prims, ray, t_min, t_max, &mut consider);
+        }
     }
 
     /// Calls `each(t, prim)` for every crossing of a triangle or sphere
@@ -794,13 +832,25 @@ impl Bvh {
     }
 }
 
+/// A stack entry's distance: where its ray (or packet) enters it.
+trait Distance: Copy {
+    fn t(&self) -> f32;
+}
+
+impl Distance for Entry {
+    #[inline(always)]
+    fn t(&self) -> f32 {
+        self.t
+    }
+}
+
 /// Pushes `e` onto the stack, keeping the entries from `base` on sorted
 /// farthest first.
 #[inline(always)]
-fn push_sorted(stack: &mut Vec<Entry>, base: usize, e: Entry) {
+fn push_sorted<E: Distance>(stack: &mut Vec<E>, base: usize, e: E) {
     stack.push(e);
     let mut j = stack.len() - 1;
-    while j > base && stack[j - 1].t < stack[j].t {
+    while j > base && stack[j - 1].t() < stack[j].t() {
         stack.swap(j - 1, j);
         j -= 1;
     }

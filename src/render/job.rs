@@ -120,6 +120,25 @@ pub(crate) fn per_pixel<T: Send + Copy>(
     out: Out<T>,
     f: impl Fn(u32, u32, &mut RayStats) -> T + Sync,
 ) -> Option<RayStats> {
+    per_block(width, height, job, out, |px, st, values| {
+        values.extend(px.iter().map(|&(x, y)| f(x, y, st)));
+    })
+}
+
+/// Pixels go in blocks of at most this many on a side (within a tile),
+/// so that their camera rays can be traced together.
+pub(crate) const BLOCK: u32 = 8;
+
+/// `per_pixel` a block at a time: `f(pixels, stats, values)` traces the
+/// pixels of one block (at most `BLOCK`×`BLOCK` of one tile, those of the
+/// pass, row by row) and pushes their values onto `values`, in order.
+pub(crate) fn per_block<T: Send + Copy>(
+    width: u32,
+    height: u32,
+    job: &Job,
+    out: Out<T>,
+    f: impl Fn(&[(u32, u32)], &mut RayStats, &mut Vec<T>) + Sync,
+) -> Option<RayStats> {
     let r = job.rect(width, height);
     let passes: &[u32] = if job.progressive { &PASSES } else { &[1] };
     let mut stats = RayStats::default();
@@ -136,21 +155,21 @@ pub(crate) fn per_pixel<T: Send + Copy>(
                         let mut st = RayStats::default();
                         let y0 = r.y0 + band as u32 * rows;
                         let y1 = (y0 + rows).min(r.y1);
+                        let (mut pixels, mut values) = (Vec::new(), Vec::new());
                         // Tile by tile along the band, for coherent rays.
                         for tx in (r.x0..r.x1).step_by(TILE as usize) {
-                            let x1 = (tx + TILE).min(r.x1);
+                            let tile = (tx, (tx + TILE).min(r.x1), y0, y1);
                             let mut n = 0;
-                            for y in y0..y1 {
-                                if job.cancelled() {
-                                    return st;
+                            let whole = blocks(job, tile, (s, passes[0]), &mut pixels, |block| {
+                                values.clear();
+                                f(block, &mut st, &mut values);
+                                for (&(x, y), &v) in block.iter().zip(&values) {
+                                    px[(y - y0) as usize * w + (x - r.x0) as usize] = v;
                                 }
-                                let row = &mut px[(y - y0) as usize * w..][..w];
-                                for x in tx..x1 {
-                                    if in_pass(x, y, s, passes[0]) {
-                                        row[(x - r.x0) as usize] = f(x, y, &mut st);
-                                        n += 1;
-                                    }
-                                }
+                                n += block.len() as u64;
+                            });
+                            if !whole {
+                                return st;
                             }
                             job.done.fetch_add(n, Ordering::Relaxed);
                         }
@@ -173,17 +192,16 @@ pub(crate) fn per_pixel<T: Send + Copy>(
             .par_iter()
             .map(|&(x0, y0)| {
                 let mut st = RayStats::default();
-                let (x1, y1) = ((x0 + TILE).min(r.x1), (y0 + TILE).min(r.y1));
-                let mut done = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-                for y in y0..y1 {
-                    if job.cancelled() {
-                        return st;
-                    }
-                    for x in x0..x1 {
-                        if in_pass(x, y, s, passes[0]) {
-                            done.push((x, y, f(x, y, &mut st)));
-                        }
-                    }
+                let tile = (x0, (x0 + TILE).min(r.x1), y0, (y0 + TILE).min(r.y1));
+                let mut done = Vec::with_capacity((TILE * TILE) as usize);
+                let (mut pixels, mut values) = (Vec::new(), Vec::new());
+                let whole = blocks(job, tile, (s, passes[0]), &mut pixels, |block| {
+                    values.clear();
+                    f(block, &mut st, &mut values);
+                    done.extend(block.iter().zip(&values).map(|(&(x, y), &v)| (x, y, v)));
+                });
+                if !whole {
+                    return st;
                 }
                 put(out, r, &done);
                 job.done.fetch_add(done.len() as u64, Ordering::Relaxed);
@@ -197,6 +215,34 @@ pub(crate) fn per_pixel<T: Send + Copy>(
         job.pass_done.store(s as u64, Ordering::Relaxed);
     }
     Some(stats)
+}
+
+/// Calls `each(pixels)` for each block of the tile `x0..x1` by `y0..y1`
+/// that has pixels in the pass of stride `s` (`first`: the first pass's),
+/// with those pixels row by row (gathered in `pixels`). False if the job
+/// was cancelled.
+fn blocks(
+    job: &Job,
+    (x0, x1, y0, y1): (u32, u32, u32, u32),
+    (s, first): (u32, u32),
+    pixels: &mut Vec<(u32, u32)>,
+    mut each: impl FnMut(&[(u32, u32)]),
+) -> bool {
+    for by in (y0..y1).step_by(BLOCK as usize) {
+        for bx in (x0..x1).step_by(BLOCK as usize) {
+            if job.cancelled() {
+                return false;
+            }
+            pixels.clear();
+            for y in by..(by + BLOCK).min(y1) {
+                pixels.extend((bx..(bx + BLOCK).min(x1)).filter(|&x| in_pass(x, y, s, first)).map(|x| (x, y)));
+            }
+            if !pixels.is_empty() {
+                each(pixels);
+            }
+        }
+    }
+    true
 }
 
 /// Where a finished tile's pixels go: (x, y, value) each.

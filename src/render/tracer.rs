@@ -22,14 +22,17 @@
 
 use glam::Vec3;
 
-use super::job::{Job, Out, per_pixel, per_pixel_passes};
+use super::job::{BLOCK, Job, Out, per_block, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
-use crate::geometry::{Hit, Local, Located, Ray, ShadowHit, Triangle, intersect_brute};
+use crate::geometry::{Hit, Local, Located, PACKET, Ray, ShadowHit, Triangle, intersect_brute};
 use crate::image::Image;
 use crate::scene::{Highlight, Integrator, Material, Scene, texture};
 
 /// Mixed into a batch's key for its pattern of times.
 const TIME: u64 = 0x7469_6d65;
+
+// A block of pixels' camera rays fit in one packet.
+const _: () = assert!((BLOCK * BLOCK) as usize <= PACKET);
 
 /// A ray whose contribution to its pixel is below this is not traced.
 const MIN_WEIGHT: f32 = 1.0 / 1024.0;
@@ -202,11 +205,32 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
         )?
     } else {
         let frame = sample::frame_key(sampling);
-        per_pixel(cam.width, cam.height, job, out, |x, y, st| {
-            // The pixel centre, as COS 426 traces it.
-            st.start(sample::key_of_pixel(frame, y as u64 * cam.width as u64 + x as u64));
-            let ray = cam.ray(x, y).at_time(sampling.shutter[0]);
-            camera_ray(scene, &ray, st)
+        let whitted = sampling.integrator == Integrator::Whitted;
+        per_block(cam.width, cam.height, job, out, |px, st, values| {
+            // The pixel centres, as COS 426 traces them.
+            let ray = |&(x, y): &(u32, u32)| cam.ray(x, y).at_time(sampling.shutter[0]);
+            let start = |st: &mut RayStats, (x, y): (u32, u32)| {
+                st.start(sample::key_of_pixel(frame, y as u64 * cam.width as u64 + x as u64));
+            };
+            if !whitted {
+                for p in px {
+                    start(st, *p);
+                    values.push(camera_ray(scene, &ray(p), st));
+                }
+                return;
+            }
+            // The block's camera rays found together, then each shaded.
+            let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO); PACKET];
+            let mut hits = [(None, 0); PACKET];
+            let n = px.len().min(PACKET);
+            for (r, p) in rays.iter_mut().zip(px) {
+                *r = ray(p);
+            }
+            scene.intersect_packet(&rays[..n], &mut hits[..n]);
+            for ((p, r), &(hit, steps)) in px.iter().zip(&rays).zip(&hits) {
+                start(st, *p);
+                values.push(trace_from(scene, r, (hit, steps), st));
+            }
         })?
     };
     // The picture itself, not a copy of it (64 Mpixel are 768 MiB).
@@ -467,12 +491,43 @@ pub fn trace(
     // A ray with a non-finite origin or direction (a degenerate surface,
     // an extreme index of refraction) sees nothing; so does one past the
     // pixel's budget.
-    if !(ray.origin.is_finite() && ray.dir.is_finite() && ray.dir != Vec3::ZERO)
-        || (st.limit != 0 && st.total() >= st.limit)
-    {
+    if !traceable(ray, st) {
         return Vec3::ZERO;
     }
     let (hit, steps) = scene.intersect(ray);
+    seen(scene, ray, (hit, steps), depth, weight, media, st)
+}
+
+/// Whether `ray` is traced: a ray with a non-finite origin or direction (a
+/// degenerate surface, an extreme index of refraction) sees nothing;
+/// neither does one past the pixel's budget.
+fn traceable(ray: &Ray, st: &RayStats) -> bool {
+    ray.origin.is_finite()
+        && ray.dir.is_finite()
+        && ray.dir != Vec3::ZERO
+        && (st.limit == 0 || st.total() < st.limit)
+}
+
+/// `trace` of a camera ray whose closest hit (and steps) was found
+/// already, in a packet.
+fn trace_from(scene: &Scene, ray: &Ray, found: (Option<Hit>, u32), st: &mut RayStats) -> Vec3 {
+    if !traceable(ray, st) {
+        return Vec3::ZERO;
+    }
+    seen(scene, ray, found, 0, 1.0, Media::default(), st)
+}
+
+/// What `ray` sees, given its closest hit and the steps to it.
+#[inline(always)]
+fn seen(
+    scene: &Scene,
+    ray: &Ray,
+    (hit, steps): (Option<Hit>, u32),
+    depth: u32,
+    weight: f32,
+    media: Media,
+    st: &mut RayStats,
+) -> Vec3 {
     st.bvh_steps += steps as u64;
     // Lights with a size are seen where nothing nearer is.
     if !scene.emitters.is_empty() {

@@ -111,6 +111,13 @@ impl Scene {
         self.bvh.intersect(ray, 0.0, f32::INFINITY)
     }
 
+    /// `intersect` for each ray of `rays` (at most `PACKET`), into `out`:
+    /// the same hits, found together when the rays can go as one packet.
+    #[inline]
+    pub fn intersect_packet(&self, rays: &[Ray], out: &mut [(Option<Hit>, u32)]) {
+        self.bvh.intersect_packet(rays, 0.0, f32::INFINITY, out)
+    }
+
     /// The surface `hit` is on.
     #[inline]
     pub fn locate(&self, ray: &Ray, hit: &Hit) -> Located {

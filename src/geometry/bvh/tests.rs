@@ -287,3 +287,46 @@ fn widths_agree() {
         assert_eq!(crossed(&four), crossed(&eight), "ray {o} {d}");
     }
 }
+
+/// A packet finds each of its rays' hits as the ray alone does, to the
+/// bit (distance, primitive, barycentrics), in trees of either width:
+/// packets narrow and wide, whole and partial, some with directions of
+/// mixed signs (which go one by one).
+#[test]
+fn packets_agree_with_single_rays() {
+    let mut seed = 23;
+    let mut shapes = random_scene(4000, &mut seed);
+    // Coplanar twins: ties the packet must settle as single rays do.
+    for i in (0..4000).step_by(7) {
+        if let Shape::Triangle(t) = shapes[i] {
+            shapes.push(Shape::Triangle(Triangle { p: [t.p[1], t.p[2], t.p[0]], ..t }));
+        }
+    }
+    for width in [Width::Four, Width::Eight] {
+        let bvh = Bvh::build_wide(shapes.len(), |i| shapes[i], Vec::new(), width);
+        let mut packets = 0;
+        for k in 0..300 {
+            let o = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 14.0 - 2.0;
+            let centre = Vec3::new(5.0, 5.0, 5.0) + (Vec3::splat(lcg(&mut seed)) - 0.5) * 6.0;
+            let spread = [0.002, 0.02, 0.2, 1.0][k % 4];
+            let n = [64, 64, 37, 2][k % 4];
+            let (du, dv) = (Vec3::new(spread, 0.0, 0.0), Vec3::new(0.0, spread, spread * 0.3));
+            let rays: Vec<Ray> = (0..n)
+                .map(|i| {
+                    let (x, y) = ((i % 8) as f32 - 3.5, (i / 8) as f32 - 3.5);
+                    Ray::new(o, (centre - o).normalize() + du * x + dv * y)
+                })
+                .collect();
+            packets += Rays::new(&rays).is_some() as u32;
+            let mut out = vec![(None, 0); n];
+            bvh.intersect_packet(&rays, 0.0, f32::INFINITY, &mut out);
+            for (r, (hit, _)) in rays.iter().zip(&out) {
+                let alone = bvh.intersect(r, 0.0, f32::INFINITY).0;
+                let key = |h: &Option<Hit>| h.map(|h| (h.t.to_bits(), h.prim, h.uv.map(f32::to_bits)));
+                assert_eq!(key(hit), key(&alone), "{width:?} packet {k}: ray {r:?}");
+            }
+        }
+        // Most packets went together.
+        assert!(packets > 200, "{packets}");
+    }
+}

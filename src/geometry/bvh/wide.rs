@@ -44,20 +44,50 @@ pub(super) trait Kernel: Copy {
     /// The per-ray constants, splatted across the lanes.
     type Slabs;
     type Near: std::ops::Index<usize, Output = f32> + Copy;
+    /// A packet's constants (see `Frustum`), splatted across the lanes.
+    type Frustum;
     fn slabs(self, ray: &Ray) -> Self::Slabs;
     fn hit(self, node: &Self::Node, r: &Self::Slabs, t_min: f32, t_max: f32) -> (u32, Self::Near);
+    fn frustum(self, f: &Frustum) -> Self::Frustum;
+    /// The packet test: the children that any ray of the packet may enter
+    /// within `(t_min, t_max)` (`t_max`: the packet's farthest), and the
+    /// nearest any ray may enter each at.
+    fn hit_frustum(
+        self,
+        node: &Self::Node,
+        f: &Self::Frustum,
+        t_min: f32,
+        t_max: f32,
+    ) -> (u32, Self::Near);
+}
+
+/// A packet of rays from one origin whose directions' components have
+/// one sign per axis, for the interval test of Wald, Boulos and Shirley
+/// ("Ray tracing deformable scenes using dynamic bounding volume
+/// hierarchies", 2007): the lowest and highest reciprocal per axis. A
+/// ray's distance to a plane is `(plane - origin) * inv`, monotonic in
+/// `inv` with rounding included, so the interval's entry is never later
+/// and its exit never earlier than any of its rays' own (the same
+/// operations on the same operands): the test never drops a child a ray
+/// of the packet would enter.
+pub(super) struct Frustum {
+    pub org: [f32; 3],
+    pub lo: [f32; 3],
+    pub hi: [f32; 3],
+    /// Per axis, the plane the rays meet first (as `near_planes`).
+    pub near: [usize; 3],
 }
 
 /// The reciprocal of a direction component, with a huge finite value
 /// instead of infinity for zero, so `0 * inv` never makes a NaN at a
 /// slab's plane.
-fn inv(d: f32) -> f32 {
+pub(super) fn inv(d: f32) -> f32 {
     if d.abs() < 1e-30 { 1e30f32.copysign(d) } else { d.recip() }
 }
 
 /// For each axis, which of the two planes (0: lo, 1: hi) the ray meets
 /// first, so the test needs no per-lane min/max.
-fn near_planes(i: [f32; 3]) -> [usize; 3] {
+pub(super) fn near_planes(i: [f32; 3]) -> [usize; 3] {
     i.map(|i| (i < 0.0) as usize)
 }
 
@@ -118,10 +148,18 @@ pub(super) struct Slabs4 {
     near: [usize; 3],
 }
 
+pub(super) struct Frustum4 {
+    org: [Vec4; 3],
+    lo: [Vec4; 3],
+    hi: [Vec4; 3],
+    near: [usize; 3],
+}
+
 impl Kernel for Four {
     type Node = Wide4;
     type Slabs = Slabs4;
     type Near = [f32; 4];
+    type Frustum = Frustum4;
 
     fn slabs(self, ray: &Ray) -> Slabs4 {
         let i = [inv(ray.dir.x), inv(ray.dir.y), inv(ray.dir.z)];
@@ -136,6 +174,34 @@ impl Kernel for Four {
     fn hit(self, n: &Wide4, r: &Slabs4, t_min: f32, t_max: f32) -> (u32, [f32; 4]) {
         // `& 1`: provably in bounds, so no checks.
         slab4(|axis, side| Vec4::from_array(n.b[axis][side & 1]), r, t_min, t_max)
+    }
+
+    fn frustum(self, f: &Frustum) -> Frustum4 {
+        Frustum4 {
+            org: f.org.map(Vec4::splat),
+            lo: f.lo.map(Vec4::splat),
+            hi: f.hi.map(Vec4::splat),
+            near: f.near,
+        }
+    }
+
+    #[inline(always)]
+    fn hit_frustum(self, n: &Wide4, f: &Frustum4, t_min: f32, t_max: f32) -> (u32, [f32; 4]) {
+        let [nx, ny, nz] = f.near;
+        let d = |axis: usize, side: usize| Vec4::from_array(n.b[axis][side & 1]) - f.org[axis];
+        let enter = |axis: usize, side: usize| {
+            let d = d(axis, side);
+            (d * f.lo[axis]).min(d * f.hi[axis])
+        };
+        let exit = |axis: usize, side: usize| {
+            let d = d(axis, side);
+            (d * f.lo[axis]).max(d * f.hi[axis])
+        };
+        let near =
+            enter(0, nx).max(enter(1, ny)).max(enter(2, nz).max(Vec4::splat(t_min)));
+        let far = exit(0, nx ^ 1).min(exit(1, ny ^ 1)).min(exit(2, nz ^ 1).min(Vec4::splat(t_max)))
+            * ROBUST;
+        (near.cmple(far).bitmask(), near.to_array())
     }
 }
 
@@ -209,7 +275,7 @@ mod avx {
     use pulp::x86::V3;
     use std::arch::x86_64::{__m256, _CMP_LE_OS};
 
-    use super::{Kernel, ROBUST, Ray, inv, near_planes};
+    use super::{Frustum, Kernel, ROBUST, Ray, inv, near_planes};
 
     /// The 8-wide node.
     pub(in super::super) type Wide8 = super::Wide<8>;
@@ -221,6 +287,13 @@ mod avx {
     pub(in super::super) struct Slabs8 {
         org: [__m256; 3],
         inv: [__m256; 3],
+        near: [usize; 3],
+    }
+
+    pub(in super::super) struct Frustum8 {
+        org: [__m256; 3],
+        lo: [__m256; 3],
+        hi: [__m256; 3],
         near: [usize; 3],
     }
 
@@ -241,6 +314,7 @@ mod avx {
         type Node = Wide8;
         type Slabs = Slabs8;
         type Near = [f32; 8];
+        type Frustum = Frustum8;
 
         #[inline(always)]
         fn slabs(self, ray: &Ray) -> Slabs8 {
@@ -271,6 +345,51 @@ mod avx {
             let near = max(max(tnx, tny), max(tnz, avx._mm256_set1_ps(t_min)));
             let far = avx._mm256_mul_ps(
                 min(min(tfx, tfy), min(tfz, avx._mm256_set1_ps(t_max))),
+                avx._mm256_set1_ps(ROBUST),
+            );
+            let mask = avx._mm256_movemask_ps(avx._mm256_cmp_ps::<_CMP_LE_OS>(near, far));
+            (mask as u32, pulp::cast(near))
+        }
+
+        #[inline(always)]
+        fn frustum(self, f: &Frustum) -> Frustum8 {
+            let avx = self.0.avx;
+            let splat = |v: [f32; 3]| v.map(|x| avx._mm256_set1_ps(x));
+            Frustum8 { org: splat(f.org), lo: splat(f.lo), hi: splat(f.hi), near: f.near }
+        }
+
+        /// The 4-wide interval test's arithmetic, lane for lane.
+        #[inline(always)]
+        fn hit_frustum(
+            self,
+            n: &Wide8,
+            f: &Frustum8,
+            t_min: f32,
+            t_max: f32,
+        ) -> (u32, [f32; 8]) {
+            let avx = self.0.avx;
+            let [nx, ny, nz] = f.near;
+            let (min, max) = (|a, b| avx._mm256_min_ps(a, b), |a, b| avx._mm256_max_ps(a, b));
+            let mul = |a, b| avx._mm256_mul_ps(a, b);
+            let d = |axis: usize, side: usize| {
+                let b: __m256 = pulp::cast(n.b[axis][side & 1]);
+                avx._mm256_sub_ps(b, f.org[axis])
+            };
+            let enter = |axis: usize, side: usize| {
+                let d = d(axis, side);
+                min(mul(d, f.lo[axis]), mul(d, f.hi[axis]))
+            };
+            let exit = |axis: usize, side: usize| {
+                let d = d(axis, side);
+                max(mul(d, f.lo[axis]), mul(d, f.hi[axis]))
+            };
+            let near =
+                max(max(enter(0, nx), enter(1, ny)), max(enter(2, nz), avx._mm256_set1_ps(t_min)));
+            let far = mul(
+                min(
+                    min(exit(0, nx ^ 1), exit(1, ny ^ 1)),
+                    min(exit(2, nz ^ 1), avx._mm256_set1_ps(t_max)),
+                ),
                 avx._mm256_set1_ps(ROBUST),
             );
             let mask = avx._mm256_movemask_ps(avx._mm256_cmp_ps::<_CMP_LE_OS>(near, far));

@@ -1,0 +1,249 @@
+//! Packets of rays from one origin (a pinhole camera's rays through a
+//! block of pixels) walked through the tree together: a node is tested
+//! once for the whole packet, by interval arithmetic over its rays'
+//! directions (`wide::Frustum`), and a leaf's box is tested for each ray
+//! by the ray's own slab test (four rays a pass) before the ray's leaf
+//! tests. A ray meets every leaf its own walk would (the interval test is
+//! conservative to the bit), tests it with the same arithmetic and keeps
+//! its hits by the same rule (`Closest`), so each ray's hit is the one
+//! `intersect` finds, to the bit.
+
+use std::cell::Cell;
+
+use glam::Vec4;
+
+use super::super::aabb::ROBUST;
+#[cfg(target_arch = "x86_64")]
+use super::Avx2;
+use super::wide::{Frustum, Kernel, Slots, inv, near_planes};
+use super::{
+    Aabb, Block, Bvh, Closest, Distance, Four, Hit, MASK, Nodes, Pre4, Ray, SHIFT, Slabs4,
+    push_sorted,
+};
+
+/// The most rays in a packet: a block of 8×8 pixels.
+pub const PACKET: usize = 64;
+const GROUPS: usize = PACKET / 4;
+
+/// A packet's rays: the interval of their directions, and their
+/// reciprocals by axis in lanes of four (lanes past the last ray copy the
+/// first ray's, and are given no segment).
+pub(super) struct Rays {
+    frustum: Frustum,
+    inv: [[Vec4; GROUPS]; 3],
+    groups: usize,
+}
+
+impl Rays {
+    /// The packet of `rays`, if they can go together: 2 to `PACKET` rays
+    /// with one origin, finite, whose directions have one sign per axis.
+    pub(super) fn new(rays: &[Ray]) -> Option<Rays> {
+        let first = rays.first()?;
+        if rays.len() < 2 || rays.len() > PACKET || !first.origin.is_finite() {
+            return None;
+        }
+        let bits = |r: &Ray| r.origin.to_array().map(f32::to_bits);
+        let of = |r: &Ray| [inv(r.dir.x), inv(r.dir.y), inv(r.dir.z)];
+        let near = near_planes(of(first));
+        let mut lanes = [[0.0f32; PACKET]; 3];
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for (i, r) in rays.iter().enumerate() {
+            let inv = of(r);
+            if bits(r) != bits(first) || !r.dir.is_finite() || near_planes(inv) != near {
+                return None;
+            }
+            for axis in 0..3 {
+                lanes[axis][i] = inv[axis];
+                lo[axis] = lo[axis].min(inv[axis]);
+                hi[axis] = hi[axis].max(inv[axis]);
+            }
+        }
+        let groups = rays.len().div_ceil(4);
+        for lane in &mut lanes {
+            let first = lane[0];
+            lane[rays.len()..groups * 4].fill(first);
+        }
+        let inv = lanes.map(|l| std::array::from_fn(|g| Vec4::from_slice(&l[4 * g..])));
+        let frustum = Frustum { org: first.origin.to_array(), lo, hi, near };
+        Some(Rays { frustum, inv, groups })
+    }
+
+    /// The rays whose own slab test (`wide::slab4`'s arithmetic) enters
+    /// box `b` within `(t_min, t_max[i])`: bit i for ray i.
+    #[inline(always)]
+    fn entering(&self, b: &Aabb, t_min: f32, t_max: &[f32; PACKET]) -> u64 {
+        let f = &self.frustum;
+        let d = |axis: usize, side: usize| {
+            let plane = if side == 0 { b.min[axis] } else { b.max[axis] };
+            Vec4::splat(plane - f.org[axis])
+        };
+        let [nx, ny, nz] = f.near;
+        let (dn, df) = ([d(0, nx), d(1, ny), d(2, nz)], [d(0, nx ^ 1), d(1, ny ^ 1), d(2, nz ^ 1)]);
+        let mut mask = 0;
+        for g in 0..self.groups.min(GROUPS) {
+            let t = |d: &[Vec4; 3], axis: usize| d[axis] * self.inv[axis][g];
+            let near = t(&dn, 0).max(t(&dn, 1)).max(t(&dn, 2).max(Vec4::splat(t_min)));
+            let t_max = Vec4::from_slice(&t_max[4 * g..]);
+            let far = t(&df, 0).min(t(&df, 1)).min(t(&df, 2).min(t_max)) * ROBUST;
+            mask |= (near.cmple(far).bitmask() as u64) << (4 * g);
+        }
+        mask
+    }
+}
+
+/// A packet walk's stack entry: a child, where the packet may enter it,
+/// and the node and slot it hangs from (where a leaf's box is).
+#[derive(Clone, Copy)]
+struct PacketEntry {
+    child: u32,
+    count: u32,
+    t: f32,
+    node: u32,
+    slot: u32,
+}
+
+impl Distance for PacketEntry {
+    #[inline(always)]
+    fn t(&self) -> f32 {
+        self.t
+    }
+}
+
+thread_local! {
+    static STACK: Cell<Vec<PacketEntry>> = const { Cell::new(Vec::new()) };
+}
+
+/// A leaf's blocks: triangles, spheres, objects.
+type Leaf<'a> = (&'a [Block], &'a [Block], &'a [Block]);
+
+impl Bvh {
+    /// `intersect` for each ray of `rays` (at most `PACKET`), into `out`:
+    /// the same hits, found together when the rays share an origin and
+    /// their directions' signs, else one by one. A ray's steps are its own
+    /// leaves and blocks plus its share of the packet's nodes.
+    pub fn intersect_packet(
+        &self,
+        rays: &[Ray],
+        t_min: f32,
+        t_max: f32,
+        out: &mut [(Option<Hit>, u32)],
+    ) {
+        debug_assert_eq!(rays.len(), out.len());
+        let packet = if self.nodes.len() == 0 { None } else { Rays::new(rays) };
+        let Some(p) = packet else {
+            for (o, r) in out.iter_mut().zip(rays) {
+                *o = self.intersect(r, t_min, t_max);
+            }
+            return;
+        };
+        let n = rays.len();
+        let mut c = [Closest::default(); PACKET];
+        // Lanes with no ray have no segment.
+        let mut far = [f32::NEG_INFINITY; PACKET];
+        far[..n].fill(t_max);
+        if !self.unbounded.is_empty() {
+            for (i, r) in rays.iter().enumerate() {
+                let mut consider = |hit, t: &mut f32| c[i].consider(&self.recs, hit, t);
+                self.objects_hit(&self.unbounded, r, t_min, &mut far[i], &mut consider);
+            }
+        }
+        let mut pre: [Option<Pre4>; PACKET] = [const { None }; PACKET];
+        let mut slabs: [Option<Slabs4>; PACKET] = [const { None }; PACKET];
+        let mut steps = [0u32; PACKET];
+        let leaf = |i: usize, leaf: Leaf, t_max: &mut f32| {
+            let i = i & (PACKET - 1);
+            steps[i] += 1 + (leaf.0.len() + leaf.1.len() + leaf.2.len()) as u32;
+            self.leaf_closest(&rays[i], (&mut pre[i], &mut slabs[i]), leaf, t_min, t_max, &mut c[i]);
+        };
+        let mut stack = STACK.take();
+        stack.clear();
+        let nodes = match &self.nodes {
+            Nodes::Four(nodes) => self.walk_packet(Four, nodes, &mut stack, &p, t_min, &mut far, leaf),
+            #[cfg(target_arch = "x86_64")]
+            Nodes::Eight(nodes, avx) => {
+                // One reference into the AVX2 function, as in `traverse`.
+                let mut args = (self, nodes, &mut stack, &p, t_min, &mut far, leaf);
+                let args = &mut args;
+                avx.run(move || {
+                    let (me, nodes, stack, p, t_min, far, leaf) = args;
+                    me.walk_packet::<Avx2>(*avx, nodes, stack, p, *t_min, far, leaf)
+                })
+            }
+        };
+        STACK.set(stack);
+        let share = nodes / n as u32;
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = (c[i].best, steps[i] + share);
+        }
+    }
+
+    /// Walks the nodes any ray of the packet may enter, nearest first, and
+    /// calls `leaf(i, blocks, t_max[i])` for each ray `i` that enters a
+    /// leaf's box; returns the nodes visited.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn walk_packet<K: Kernel>(
+        &self,
+        kernel: K,
+        nodes: &[K::Node],
+        stack: &mut Vec<PacketEntry>,
+        p: &Rays,
+        t_min: f32,
+        t_max: &mut [f32; PACKET],
+        mut leaf: impl FnMut(usize, Leaf, &mut f32),
+    ) -> u32 {
+        let frustum = kernel.frustum(&p.frustum);
+        // As in `walk`: more entries would mean a broken tree.
+        let limit = (K::Node::N - 1) * self.depth + 4;
+        let farthest = |t_max: &[f32; PACKET]| t_max.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
+        let mut far = farthest(t_max);
+        let mut steps = 0;
+        stack.push(PacketEntry { child: 0, count: 0, t: t_min, node: 0, slot: 0 });
+        while let Some(e) = stack.pop() {
+            if e.t > far {
+                continue;
+            }
+            steps += 1;
+            if e.count == 0 {
+                let n = &nodes[e.child as usize];
+                let (mut mask, near) = kernel.hit_frustum(n, &frustum, t_min, far);
+                let base = stack.len();
+                if base > limit {
+                    break;
+                }
+                while mask != 0 {
+                    let slot = mask.trailing_zeros() as usize & (K::Node::N - 1);
+                    mask &= mask - 1;
+                    let (child, count) = n.child(slot);
+                    let e = PacketEntry { child, count, t: near[slot], node: e.child, slot: slot as u32 };
+                    push_sorted(stack, base, e);
+                }
+                continue;
+            }
+            let b = nodes[e.node as usize].bounds(e.slot as usize);
+            let mut rays = p.entering(&b, t_min, t_max);
+            if rays == 0 {
+                continue;
+            }
+            let first = e.child as usize;
+            let tris = (e.count & MASK) as usize;
+            let spheres = (e.count >> SHIFT & MASK) as usize;
+            let objects = (e.count >> (2 * SHIFT)) as usize;
+            let blocks = &self.blocks[first..first + tris + spheres + objects];
+            let (tris, rest) = blocks.split_at(tris);
+            let (spheres, objects) = rest.split_at(spheres);
+            let mut shortened = false;
+            while rays != 0 {
+                let i = rays.trailing_zeros() as usize & (PACKET - 1);
+                rays &= rays - 1;
+                let before = t_max[i];
+                leaf(i, (tris, spheres, objects), &mut t_max[i]);
+                shortened |= t_max[i] != before;
+            }
+            if shortened {
+                far = farthest(t_max);
+            }
+        }
+        steps
+    }
+}
