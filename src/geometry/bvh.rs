@@ -484,11 +484,12 @@ impl Bvh {
             let mut consider = |hit, t_max: &mut f32| c.consider(&self.recs, hit, t_max);
             self.objects_hit(&self.unbounded, ray, t_min, &mut t_max, &mut consider);
         }
-        let steps = self.traverse::<true>(ray, t_min, &mut t_max, |tris, spheres, objects, t_max| {
-            let leaf = (tris, spheres, objects);
-            self.leaf_closest(ray, (&mut pre, &mut slabs), leaf, t_min, t_max, &mut c);
-            false
-        });
+        let steps =
+            self.traverse::<true>(ray, t_min, &mut t_max, |tris, spheres, objects, t_max| {
+                let leaf = (tris, spheres, objects);
+                self.leaf_closest(ray, (&mut pre, &mut slabs), leaf, t_min, t_max, &mut c);
+                false
+            });
         (c.best, steps)
     }
 

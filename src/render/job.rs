@@ -235,7 +235,9 @@ fn blocks(
             }
             pixels.clear();
             for y in by..(by + BLOCK).min(y1) {
-                pixels.extend((bx..(bx + BLOCK).min(x1)).filter(|&x| in_pass(x, y, s, first)).map(|x| (x, y)));
+                pixels.extend(
+                    (bx..(bx + BLOCK).min(x1)).filter(|&x| in_pass(x, y, s, first)).map(|x| (x, y)),
+                );
             }
             if !pixels.is_empty() {
                 each(pixels);

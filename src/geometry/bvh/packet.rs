@@ -153,12 +153,21 @@ impl Bvh {
         let leaf = |i: usize, leaf: Leaf, t_max: &mut f32| {
             let i = i & (PACKET - 1);
             steps[i] += 1 + (leaf.0.len() + leaf.1.len() + leaf.2.len()) as u32;
-            self.leaf_closest(&rays[i], (&mut pre[i], &mut slabs[i]), leaf, t_min, t_max, &mut c[i]);
+            self.leaf_closest(
+                &rays[i],
+                (&mut pre[i], &mut slabs[i]),
+                leaf,
+                t_min,
+                t_max,
+                &mut c[i],
+            );
         };
         let mut stack = STACK.take();
         stack.clear();
         let nodes = match &self.nodes {
-            Nodes::Four(nodes) => self.walk_packet(Four, nodes, &mut stack, &p, t_min, &mut far, leaf),
+            Nodes::Four(nodes) => {
+                self.walk_packet(Four, nodes, &mut stack, &p, t_min, &mut far, leaf)
+            }
             #[cfg(target_arch = "x86_64")]
             Nodes::Eight(nodes, avx) => {
                 // One reference into the AVX2 function, as in `traverse`.
@@ -195,7 +204,8 @@ impl Bvh {
         let frustum = kernel.frustum(&p.frustum);
         // As in `walk`: more entries would mean a broken tree.
         let limit = (K::Node::N - 1) * self.depth + 4;
-        let farthest = |t_max: &[f32; PACKET]| t_max.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
+        let farthest =
+            |t_max: &[f32; PACKET]| t_max.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
         let mut far = farthest(t_max);
         let mut steps = 0;
         stack.push(PacketEntry { child: 0, count: 0, t: t_min, node: 0, slot: 0 });
@@ -215,7 +225,13 @@ impl Bvh {
                     let slot = mask.trailing_zeros() as usize & (K::Node::N - 1);
                     mask &= mask - 1;
                     let (child, count) = n.child(slot);
-                    let e = PacketEntry { child, count, t: near[slot], node: e.child, slot: slot as u32 };
+                    let e = PacketEntry {
+                        child,
+                        count,
+                        t: near[slot],
+                        node: e.child,
+                        slot: slot as u32,
+                    };
                     push_sorted(stack, base, e);
                 }
                 continue;

@@ -322,7 +322,8 @@ fn packets_agree_with_single_rays() {
             bvh.intersect_packet(&rays, 0.0, f32::INFINITY, &mut out);
             for (r, (hit, _)) in rays.iter().zip(&out) {
                 let alone = bvh.intersect(r, 0.0, f32::INFINITY).0;
-                let key = |h: &Option<Hit>| h.map(|h| (h.t.to_bits(), h.prim, h.uv.map(f32::to_bits)));
+                let key =
+                    |h: &Option<Hit>| h.map(|h| (h.t.to_bits(), h.prim, h.uv.map(f32::to_bits)));
                 assert_eq!(key(hit), key(&alone), "{width:?} packet {k}: ray {r:?}");
             }
         }

@@ -197,8 +197,7 @@ impl Kernel for Four {
             let d = d(axis, side);
             (d * f.lo[axis]).max(d * f.hi[axis])
         };
-        let near =
-            enter(0, nx).max(enter(1, ny)).max(enter(2, nz).max(Vec4::splat(t_min)));
+        let near = enter(0, nx).max(enter(1, ny)).max(enter(2, nz).max(Vec4::splat(t_min)));
         let far = exit(0, nx ^ 1).min(exit(1, ny ^ 1)).min(exit(2, nz ^ 1).min(Vec4::splat(t_max)))
             * ROBUST;
         (near.cmple(far).bitmask(), near.to_array())
@@ -360,13 +359,7 @@ mod avx {
 
         /// The 4-wide interval test's arithmetic, lane for lane.
         #[inline(always)]
-        fn hit_frustum(
-            self,
-            n: &Wide8,
-            f: &Frustum8,
-            t_min: f32,
-            t_max: f32,
-        ) -> (u32, [f32; 8]) {
+        fn hit_frustum(self, n: &Wide8, f: &Frustum8, t_min: f32, t_max: f32) -> (u32, [f32; 8]) {
             let avx = self.0.avx;
             let [nx, ny, nz] = f.near;
             let (min, max) = (|a, b| avx._mm256_min_ps(a, b), |a, b| avx._mm256_max_ps(a, b));
