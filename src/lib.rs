@@ -14,7 +14,8 @@
 //! - `geometry`: rays (with a time), boxes, spheres, watertight triangles,
 //!   the BVH (8-wide nodes where the CPU has AVX2, else 4-wide: `bvh::wide`)
 //!   whose leaves hold blocks of four primitives tested in
-//!   SIMD lanes, and objects, leaves of their own kind (`object`): placed
+//!   SIMD lanes, walked by single rays or by packets of camera rays
+//!   (`bvh::packet`), and objects, leaves of their own kind (`object`): placed
 //!   analytic solids (`solid`, with `poly`'s root finder for the torus),
 //!   CSG by intervals (`csg`), blobs (`blob`), lazily generated fractals
 //!   (`fractal`), and trees of their own (instances, moving primitives).
@@ -59,6 +60,9 @@
 //!   order, pass order, crop or shard.
 //! - The BVH's four-lane triangle test does the scalar watertight test's
 //!   arithmetic lane for lane: the same hits, to the bit.
+//! - A packet of rays finds each ray's hit as the ray alone does, to the
+//!   bit: its node test is conservative to the bit, its leaf tests are the
+//!   single ray's.
 //! - The builder keeps positions in double precision; a frozen `Scene` is
 //!   single precision with the eye at the origin, and no tolerance in the
 //!   renderer is absolute: the picture does not depend on where the scene

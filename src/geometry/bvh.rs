@@ -2,7 +2,8 @@
 //! (triangles and spheres alike) into a binary tree, collapsed into a
 //! tree of 8-wide nodes (where the CPU has AVX2) or 4-wide ones (`wide`),
 //! in depth-first order, whose leaves are blocks of four primitives
-//! (`blocks`); traversed with an explicit stack, nearest child first.
+//! (`blocks`); traversed with an explicit stack, nearest child first, one
+//! ray at a time or (camera rays from one origin) in packets (`packet`).
 //! `intersect` finds the closest hit; `transmittance` is the any-hit query
 //! for shadow rays, which multiplies in what each surface lets through.
 
