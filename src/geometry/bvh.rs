@@ -728,6 +728,19 @@ impl Bvh {
         steps
     }
 
+    /// A leaf slot's blocks: its triangles, spheres and objects.
+    #[inline(always)]
+    fn leaf_blocks(&self, first: u32, count: u32) -> (&[Block], &[Block], &[Block]) {
+        let first = first as usize;
+        let tris = (count & MASK) as usize;
+        let spheres = (count >> SHIFT & MASK) as usize;
+        let objects = (count >> (2 * SHIFT)) as usize;
+        let blocks = &self.blocks[first..first + tris + spheres + objects];
+        let (tris, rest) = blocks.split_at(tris);
+        let (spheres, objects) = rest.split_at(spheres);
+        (tris, spheres, objects)
+    }
+
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn walk<const NEAR_FIRST: bool, K: Kernel>(
@@ -749,14 +762,8 @@ impl Bvh {
         loop {
             steps += 1;
             if current.count > 0 {
-                let first = current.child as usize;
-                let tris = (current.count & MASK) as usize;
-                let spheres = (current.count >> SHIFT & MASK) as usize;
-                let objects = (current.count >> (2 * SHIFT)) as usize;
-                steps += (tris + spheres + objects) as u32;
-                let blocks = &self.blocks[first..first + tris + spheres + objects];
-                let (tris, rest) = blocks.split_at(tris);
-                let (spheres, objects) = rest.split_at(spheres);
+                let (tris, spheres, objects) = self.leaf_blocks(current.child, current.count);
+                steps += (tris.len() + spheres.len() + objects.len()) as u32;
                 if leaf(tris, spheres, objects, t_max) {
                     return steps;
                 }

@@ -17,8 +17,7 @@ use super::super::aabb::ROBUST;
 use super::Avx2;
 use super::wide::{Frustum, Kernel, Slots, inv, near_planes};
 use super::{
-    Aabb, Block, Bvh, Closest, Distance, Four, Hit, MASK, Nodes, Pre4, Ray, SHIFT, Slabs4,
-    push_sorted,
+    Aabb, Block, Bvh, Closest, Distance, Four, Hit, Nodes, Pre4, Ray, Slabs4, push_sorted,
 };
 
 /// The most rays in a packet: a block of 8×8 pixels.
@@ -241,19 +240,13 @@ impl Bvh {
             if rays == 0 {
                 continue;
             }
-            let first = e.child as usize;
-            let tris = (e.count & MASK) as usize;
-            let spheres = (e.count >> SHIFT & MASK) as usize;
-            let objects = (e.count >> (2 * SHIFT)) as usize;
-            let blocks = &self.blocks[first..first + tris + spheres + objects];
-            let (tris, rest) = blocks.split_at(tris);
-            let (spheres, objects) = rest.split_at(spheres);
+            let blocks = self.leaf_blocks(e.child, e.count);
             let mut shortened = false;
             while rays != 0 {
                 let i = rays.trailing_zeros() as usize & (PACKET - 1);
                 rays &= rays - 1;
                 let before = t_max[i];
-                leaf(i, (tris, spheres, objects), &mut t_max[i]);
+                leaf(i, blocks, &mut t_max[i]);
                 shortened |= t_max[i] != before;
             }
             if shortened {
