@@ -157,6 +157,29 @@ impl Block {
         (ok.bitmask(), t, [u, vv, w])
     }
 
+    /// Calls `each(lane, t, uv)` for each lane `triangles` finds hit, in
+    /// lane order (`uv`: the weights of vertices 1 and 2); stops, and
+    /// returns true, as soon as `each` returns true.
+    #[inline(always)]
+    pub fn each_triangle_hit(
+        &self,
+        r: &Pre4,
+        t_min: f32,
+        t_max: f32,
+        mut each: impl FnMut(usize, f32, [f32; 2]) -> bool,
+    ) -> bool {
+        let (mut mask, t, [u, v, w]) = self.triangles(r, t_min, t_max);
+        while mask != 0 {
+            let l = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            let det = u[l] + v[l] + w[l];
+            if each(l, t[l], [v[l] / det, w[l] / det]) {
+                return true;
+            }
+        }
+        false
+    }
+
     /// The sphere test on all four lanes, each lane doing exactly the
     /// arithmetic of `intersect_sphere`: the lanes hit within
     /// `(t_min, t_max)` as a bit mask, and per lane the nearest root there.

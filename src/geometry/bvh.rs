@@ -510,14 +510,10 @@ impl Bvh {
     ) {
         for b in tris {
             let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
-            let (mut mask, t, [u, v, w]) = b.triangles(pre, t_min, *t_max);
-            while mask != 0 {
-                let l = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let det = u[l] + v[l] + w[l];
-                let uv = [v[l] / det, w[l] / det];
-                c.consider(&self.recs, Hit { t: t[l], prim: b.prim[l], uv, sub: 0 }, t_max);
-            }
+            b.each_triangle_hit(pre, t_min, *t_max, |l, t, uv| {
+                c.consider(&self.recs, Hit { t, prim: b.prim[l], uv, sub: 0 }, t_max);
+                false
+            });
         }
         for b in spheres {
             let (mut mask, t) = b.spheres(ray, t_min, *t_max);
@@ -639,20 +635,17 @@ impl Bvh {
         self.traverse::<false>(ray, t_min, &mut t_end, |tris, spheres, objects, t_max| {
             for b in tris {
                 let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
-                let (mut mask, t, [u, v, w]) = b.triangles(pre, t_min, *t_max);
-                while mask != 0 {
-                    let l = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
+                let blocked = b.each_triangle_hit(pre, t_min, *t_max, |l, t, uv| {
                     let rec = &self.recs[b.prim[l] as usize];
-                    let det = u[l] + v[l] + w[l];
                     through *= pass(ShadowHit {
                         corners: rec.normals,
-                        uv: [v[l] / det, w[l] / det],
-                        ..ShadowHit::new(rec.material, t[l])
+                        uv,
+                        ..ShadowHit::new(rec.material, t)
                     });
-                    if through == Vec3::ZERO {
-                        return true;
-                    }
+                    through == Vec3::ZERO
+                });
+                if blocked {
+                    return true;
                 }
             }
             for b in spheres {
