@@ -192,6 +192,11 @@ pub struct Builder {
     /// Counts changes (the shell bumps it after every scene command), so
     /// a render can tell that nothing changed since the last one.
     pub generation: u64,
+    /// The `generation` at which something a BVH is built from last
+    /// changed: primitives, vertices, objects, groups, transforms, motion,
+    /// the shutter. A render whose geometry and eye are the last render's
+    /// reuses its tree (see `Scene::freeze_reusing`).
+    pub geometry: u64,
 }
 
 impl Default for Builder {
@@ -232,6 +237,7 @@ impl Default for Builder {
             focus: None,
             max_pixels: MAX_PIXELS,
             generation: 0,
+            geometry: 0,
         }
     }
 }
@@ -809,13 +815,12 @@ impl Builder {
         Ok(())
     }
 
-    /// Back to the initial state.
     /// Back to the defaults, but for the picture size limit, the animation
     /// frame and `--seed` (the run's, not the script's).
     pub fn clear(&mut self) {
         let (max_pixels, generation) = (self.max_pixels, self.generation + 1);
         let s = self.sampling;
-        *self = Builder { max_pixels, generation, ..Builder::default() };
+        *self = Builder { max_pixels, generation, geometry: generation, ..Builder::default() };
         self.sampling.frame = s.frame;
         self.sampling.base_seed = s.base_seed;
         self.sampling.noise_target = s.noise_target;

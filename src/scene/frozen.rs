@@ -22,8 +22,11 @@ use crate::geometry::{
 pub struct Scene {
     pub camera: Camera,
     /// Everything: the still triangles and spheres, and objects (analytic
-    /// shapes, CSG, instances of groups, primitives moving together).
-    pub bvh: Bvh,
+    /// shapes, CSG, instances of groups, primitives moving together);
+    /// shared with the next render of the same geometry from the same eye.
+    pub bvh: Arc<Bvh>,
+    /// Whether `bvh` is an earlier render's (`freeze_reusing`).
+    pub reused: bool,
     pub materials: Vec<Material>,
     pub normals: Vec<Vec3>,
     /// Texture coordinates beside `normals` (see `Builder::uvs`).
@@ -55,10 +58,20 @@ impl Scene {
     /// Freezes the builder's current state (the builder is left as it is,
     /// so a script can change it and render again).
     pub fn freeze(b: &Builder) -> Result<Scene, SceneError> {
+        Scene::freeze_reusing(b, None)
+    }
+
+    /// `freeze` with `tree` as the BVH when given: an earlier freeze's, of
+    /// the same `Builder::geometry` and eye (`Builder::from`), which the
+    /// caller checks. The tree depends on nothing else of the builder.
+    pub fn freeze_reusing(b: &Builder, tree: Option<Arc<Bvh>>) -> Result<Scene, SceneError> {
         let camera = b.camera()?;
         let start = Instant::now();
-        let mut groups = vec![None; b.groups.len()];
-        let bvh = freeze_level(b, &b.prims, &b.motion, &b.objects, b.from, &mut groups);
+        let reused = tree.is_some();
+        let bvh = tree.unwrap_or_else(|| {
+            let mut groups = vec![None; b.groups.len()];
+            Arc::new(freeze_level(b, &b.prims, &b.motion, &b.objects, b.from, &mut groups))
+        });
         let degenerate = bvh.degenerate;
         let sky = match &b.environment {
             Some(s) => s.clone(),
@@ -80,6 +93,7 @@ impl Scene {
         Ok(Scene {
             camera,
             bvh,
+            reused,
             materials: b.materials.clone(),
             normals: b.normals.clone(),
             uvs: b.uvs.clone(),

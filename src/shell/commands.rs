@@ -84,11 +84,52 @@ impl Args<'_> {
 pub(super) type Shared = Rc<RefCell<Builder>>;
 
 /// The builder, to change: counted as a change (a render after it traces
-/// again).
+/// again), of the geometry too (it builds its BVH again).
 pub(super) fn edit(scene: &Shared) -> std::cell::RefMut<'_, Builder> {
     let mut b = scene.borrow_mut();
     b.generation += 1;
+    b.geometry = b.generation;
     b
+}
+
+/// `edit` for a command that changes nothing a BVH is built from (the
+/// eye's position is part of the tree's key instead): a render after it
+/// traces again with the last render's tree.
+pub(super) fn edit_view(scene: &Shared) -> std::cell::RefMut<'_, Builder> {
+    let mut b = scene.borrow_mut();
+    b.generation += 1;
+    b
+}
+
+/// The numeric scene commands that change only the view, the lights, the
+/// materials to come or the sampling (see `edit_view`). Any other command
+/// counts as a change of the geometry.
+const VIEW_ONLY: &[&str] = &[
+    "camera_from",
+    "camera_target",
+    "camera_forw",
+    "camera_up",
+    "camera_angle",
+    "camera_resolution",
+    "camera_aperture",
+    "camera_focus",
+    "background",
+    "ambient_light",
+    "parallel_light",
+    "point_light",
+    "spot_light",
+    "area_light",
+    "sphere_light",
+    "material",
+    "trace_depth",
+    "samples",
+    "seed",
+    "exposure",
+];
+
+/// `edit` or `edit_view`, as the command `name` needs.
+fn edit_for<'a>(scene: &'a Shared, name: &str) -> std::cell::RefMut<'a, Builder> {
+    if VIEW_ONLY.contains(&name) { edit_view(scene) } else { edit(scene) }
 }
 
 /// Registers a numeric scene command that changes the builder.
@@ -104,7 +145,7 @@ pub(super) fn numeric(
     let s = scene.clone();
     let (n, u) = (name.to_string(), usage.to_string());
     interp.register_numeric(name, arity, usage, summary, move |_, nums| {
-        let mut b = edit(&s);
+        let mut b = edit_for(&s, &n);
         f(&mut b, &Args { nums, name: &n, usage: &u })
     });
 }
@@ -159,7 +200,7 @@ pub(super) fn numeric_opt(
                 ))
             })?);
         }
-        let mut b = edit(&s);
+        let mut b = edit_for(&s, &n);
         f(&mut b, &Args { nums: &nums, name: &n, usage: &u }, nums.len())?;
         Ok(Value::empty())
     });
@@ -442,7 +483,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
                 Some(v) => Some(finite_arg(v, "filter: radius")? as f32),
                 None => None,
             };
-            let mut b = edit(&s);
+            let mut b = edit_view(&s);
             b.sampling.filter = Filter::new(kind, radius).map_err(e)?;
             Ok(Value::empty())
         },
@@ -459,7 +500,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
                 Some(v) => Some(v.as_int()?),
                 None => None,
             };
-            let mut b = edit(&s);
+            let mut b = edit_view(&s);
             b.sampling.set_adaptive(threshold, max).map_err(e)?;
             Ok(Value::empty())
         },
@@ -472,7 +513,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         move |_, argv| {
             check_args(argv, 2, 2, "clamp|reinhard|aces")?;
             let t = choice(&argv[1], "tone map", Tonemap::parse, Tonemap::NAMES)?;
-            let mut b = edit(&s);
+            let mut b = edit_view(&s);
             b.sampling.tonemap = t;
             Ok(Value::empty())
         },
@@ -485,7 +526,7 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
         move |_, argv| {
             check_args(argv, 2, 2, "whitted|path")?;
             let i = choice(&argv[1], "integrator", Integrator::parse, Integrator::NAMES)?;
-            edit(&s).sampling.integrator = i;
+            edit_view(&s).sampling.integrator = i;
             Ok(Value::empty())
         },
     );
@@ -764,7 +805,7 @@ fn render_command(
     }
     // The frozen shapes and the BVH (an upper bound per primitive).
     crate::mem::reserve_n(b.prims.len(), BVH_BYTES_PER_PRIM)?;
-    let scene = Scene::freeze(b).map_err(scene_err)?;
+    let scene = freeze(b, state)?;
     // Open the output before the work, so a bad path fails at once.
     let mut out = super::AtomicFile::create(path).map_err(write_err)?;
     for w in scene.warnings() {
@@ -815,9 +856,30 @@ fn render_command(
     Ok(Value::empty())
 }
 
+/// The last picture traced, in bytes, and its size.
+fn last_rgb8(state: &RefCell<ShellState>) -> Option<(Vec<u8>, u32, u32)> {
+    let st = state.borrow();
+    let p = st.last_picture.as_ref()?;
+    Some((p.image.to_rgb8(Encoding::Srgb), p.image.width, p.image.height))
+}
+
 /// Whether Ctrl-C has come (a long PNG encode asks).
 fn interrupted() -> bool {
     super::feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Freezes the scene for a render, with the last render's BVH when the
+/// geometry and the eye are the same (its bytes: the same tree); keeps the
+/// tree for the next. A tree that cannot be reused is let go before the
+/// new one is built.
+fn freeze(b: &Builder, state: &RefCell<ShellState>) -> Result<Scene, Exception> {
+    let from = b.from.to_array().map(f64::to_bits);
+    let tree = state.borrow_mut().tree.take();
+    let tree = tree.filter(|t| t.geometry == b.geometry && t.from == from).map(|t| t.bvh);
+    let scene = Scene::freeze_reusing(b, tree).map_err(scene_err)?;
+    let bvh = scene.bvh.clone();
+    state.borrow_mut().tree = Some(super::stats::Tree { geometry: b.geometry, from, bvh });
+    Ok(scene)
 }
 
 /// What freezing a scene takes per primitive, at most: its shape, its leaf
@@ -961,8 +1023,8 @@ fn show_command(
             };
             (rgb, img.width, img.height)
         }
-        None => match &state.borrow().last_picture {
-            Some(p) => (p.image.to_rgb8(Encoding::Srgb), p.image.width, p.image.height),
+        None => match last_rgb8(state) {
+            Some(shown) => shown,
             None => {
                 // Nothing rendered yet: a quick preview, sized to the
                 // terminal (and never past the picture size limit), which
@@ -971,7 +1033,7 @@ fn show_command(
                 while pw as u64 * ph as u64 > b.max_pixels && (pw > 1 || ph > 1) {
                     (pw, ph) = ((pw / 2).max(1), (ph / 2).max(1));
                 }
-                let mut scene = Scene::freeze(b).map_err(scene_err)?;
+                let mut scene = freeze(b, state)?;
                 scene.camera = b.camera_at(pw, ph).map_err(scene_err)?;
                 let job = render::Job {
                     cancel: Some(&super::feedback::INTERRUPTED),

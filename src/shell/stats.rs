@@ -23,6 +23,18 @@ pub struct ShellState {
     /// How many times this session traced its scene (`render`,
     /// `raybench`): none means a script built a scene and never looked.
     pub renders: usize,
+    /// The last render's BVH, for the next render of the same geometry
+    /// from the same eye.
+    pub tree: Option<Tree>,
+}
+
+/// A BVH kept between renders, and what it was built from.
+pub struct Tree {
+    /// `Builder::geometry` when it was built.
+    pub geometry: u64,
+    /// The eye (`Builder::from`), bit for bit: the tree is built around it.
+    pub from: [u64; 3],
+    pub bvh: std::sync::Arc<crate::geometry::Bvh>,
 }
 
 /// A traced picture and what it was traced from.
@@ -43,6 +55,7 @@ impl Default for ShellState {
             pools: Vec::new(),
             last_picture: None,
             renders: 0,
+            tree: None,
         }
     }
 }
@@ -51,6 +64,8 @@ impl Default for ShellState {
 pub struct RenderReport {
     pub parse_seconds: f64,
     pub build_seconds: f64,
+    /// The BVH was the last render's (nothing it is built from changed).
+    pub reused: bool,
     pub nodes: usize,
     /// How many children a node has (8 with AVX2, else 4).
     pub node_width: u32,
@@ -84,6 +99,7 @@ impl RenderReport {
         RenderReport {
             parse_seconds,
             build_seconds: scene.build_seconds,
+            reused: scene.reused,
             nodes: st.nodes,
             node_width: st.width.lanes(),
             depth: st.depth,
@@ -107,16 +123,24 @@ impl std::fmt::Display for RenderReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let mib = |b: u64| b as f64 / (1 << 20) as f64;
         writeln!(f, "parse      {:.3} s", self.parse_seconds)?;
-        writeln!(
-            f,
-            "bvh build  {:.3} s  ({} primitives, {} {}-wide nodes, depth {}, {:.2} M primitives/s)",
-            self.build_seconds,
-            self.primitives,
-            self.nodes,
-            self.node_width,
-            self.depth,
-            self.primitives as f64 / self.build_seconds.max(1e-9) / 1e6
-        )?;
+        if self.reused {
+            writeln!(
+                f,
+                "bvh build  {:.3} s  ({} primitives, {} {}-wide nodes, depth {}; the last render's tree, reused)",
+                self.build_seconds, self.primitives, self.nodes, self.node_width, self.depth
+            )?;
+        } else {
+            writeln!(
+                f,
+                "bvh build  {:.3} s  ({} primitives, {} {}-wide nodes, depth {}, {:.2} M primitives/s)",
+                self.build_seconds,
+                self.primitives,
+                self.nodes,
+                self.node_width,
+                self.depth,
+                self.primitives as f64 / self.build_seconds.max(1e-9) / 1e6
+            )?;
+        }
         writeln!(f, "render     {:.3} s  ({}x{})", self.render_seconds, self.width, self.height)?;
         let r = &self.rays;
         writeln!(

@@ -169,6 +169,7 @@ fn main() {
         render::cli_renders_the_final_scene,
         render::no_light_warns,
         render::stats_and_heatmap,
+        render::renders_reuse_the_tree_only_while_its_geometry_and_eye_stay,
         render::degenerate_triangles_are_skipped_with_one_warning,
         render::pictures_do_not_depend_on_where_the_scene_sits_or_its_scale,
         render::coplanar_triangles_show_the_one_added_first,

@@ -286,6 +286,52 @@ pub fn stats_and_heatmap() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A render keeps its BVH for the next: reused after changes to the view,
+/// the lights or the materials, built again after any change to the
+/// geometry or the eye, and the pictures are those a fresh run makes.
+pub fn renders_reuse_the_tree_only_while_its_geometry_and_eye_stay() {
+    let dir = std::env::temp_dir().join(format!("rayshell-reuse-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let steps = [
+        ("a", "camera_resolution 32 24; point_light 1 1 1 0 3 3; sphere 0 0 -5 1", "built"),
+        (
+            "b",
+            "point_light 0.5 0.5 0.5 3 3 3; material 1 0 0 0.2 0.8 0 1 0 1; camera_angle 50",
+            "reused",
+        ),
+        ("c", "sphere 1 1 -6 0.5", "built"),
+        ("d", "camera_from 0 0 0.5", "built"),
+        ("e", "samples 2; background 0 0 0.2", "reused"),
+        ("f", "translate 0.5 0 0; sphere -1 0 -5 0.4", "built"),
+        (
+            "g",
+            "clear_scene; camera_resolution 32 24; point_light 1 1 1 0 3 3; sphere 0 0 -5 1",
+            "built",
+        ),
+    ];
+    let tree =
+        "[expr {[string match *reused* [lindex [split [stats] \\n] 1]] ? \"reused\" : \"built\"}]";
+    let mut script = String::new();
+    for (name, cmds, _) in steps {
+        script += &format!("{cmds}\nrender {name}.ppm\nputs \"{name} {tree}\"\n");
+    }
+    let r = raytrace().arg("-c").arg(&script).current_dir(&dir).output().unwrap();
+    assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    let want: String = steps.iter().map(|(n, _, w)| format!("{n} {w}\n")).collect();
+    assert_eq!(text(&r.stdout), want);
+    // Each picture against a run that builds the same scene and renders once.
+    let mut so_far = String::new();
+    for (name, cmds, _) in steps {
+        so_far += &format!("{cmds}\n");
+        let fresh = format!("{so_far}render fresh-{name}.ppm\n");
+        let r = raytrace().arg("-c").arg(&fresh).current_dir(&dir).output().unwrap();
+        assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+        let (a, b) = (dir.join(format!("{name}.ppm")), dir.join(format!("fresh-{name}.ppm")));
+        assert!(std::fs::read(a).unwrap() == std::fs::read(b).unwrap(), "{name} differs");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 pub fn degenerate_triangles_are_skipped_with_one_warning() {
     let dir = std::env::temp_dir().join(format!("rayshell-degen-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
