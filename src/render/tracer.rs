@@ -172,11 +172,23 @@ impl Media {
 /// Renders the job's part of the picture; also returns the ray counts.
 /// `None` if the job was cancelled.
 pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
+    render_into(scene, job, Vec::new())
+}
+
+/// `render` into `buf` when it has the picture's size (an earlier picture
+/// of the same size: its pages are in place, and every pixel is written
+/// again before the picture is returned); else into a fresh buffer.
+pub fn render_into(scene: &Scene, job: &Job, buf: Vec<Vec3>) -> Option<(Image, RayStats)> {
     let cam = &scene.camera;
     let r = job.rect(cam.width, cam.height);
+    let n = r.pixels() as usize;
     let mut own = match job.canvas {
         Some(_) => Vec::new(),
-        None => vec![Vec3::ZERO; r.pixels() as usize],
+        None if buf.len() == n => buf,
+        None => {
+            drop(buf);
+            vec![Vec3::ZERO; n]
+        }
     };
     let out = match job.canvas {
         Some(c) => Out::Shared(c),

@@ -813,15 +813,21 @@ fn render_command(
     }
     let start = Instant::now();
     let mut st = state.borrow_mut();
-    // The old picture goes before the new one is traced (peak memory).
-    st.last_picture = None;
+    // The old picture goes before the new one is traced (peak memory);
+    // its pixels are the new one's buffer when the sizes agree (every
+    // pixel is written again: no clearing, no fresh pages).
+    let old = st.last_picture.take().map(|p| p.image.pixels).unwrap_or_default();
     // The picture in floats, then in bytes for the file.
     let pixels = crop.map_or(width as usize * height as usize, |r| {
         (r.x1 - r.x0) as usize * (r.y1 - r.y0) as usize
     });
     crate::mem::reserve_n(pixels, 12 + 3)?;
     let done = st.feedback.watch(path, (width, height), progressive, |job| {
-        if heatmap { render::render_heatmap(&scene, job) } else { render::render(&scene, job) }
+        if heatmap {
+            render::render_heatmap(&scene, job)
+        } else {
+            render::render_into(&scene, job, old)
+        }
     });
     // Cancelled (Ctrl-C): the temporary file goes with `out`.
     let (mut img, rays) = done.ok_or_else(super::interrupted)?;

@@ -225,8 +225,11 @@ impl Bvh {
         let frustum = kernel.frustum(&p.frustum);
         // As in `walk`: more entries would mean a broken tree.
         let limit = (K::Node::N - 1) * self.depth + 4;
-        let farthest =
-            |t_max: &[f32; PACKET]| t_max.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
+        // Four lanes at a time (no segment end is NaN).
+        let farthest = |t_max: &[f32; PACKET]| {
+            let lanes = t_max.chunks_exact(4).map(Vec4::from_slice);
+            lanes.fold(Vec4::NEG_INFINITY, Vec4::max).max_element()
+        };
         let mut far = farthest(t_max);
         let mut steps = 0;
         stack.push(PacketEntry { child: 0, count: 0, t: t_min, node: 0, slot: 0 });
