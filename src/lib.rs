@@ -79,6 +79,11 @@
 //!   value between it and its resumer (`interp/builtins/coro.rs`): nothing
 //!   keeps a reference into the `Interp` across a `yield`, and a variable
 //!   trace or a coroutine never needs `unsafe`.
+//! - A BVH depends only on the builder's geometry and its eye: every scene
+//!   command bumps `Builder::geometry` but those the shell lists as
+//!   changing the view alone (`shell/commands.rs`, `VIEW_ONLY`), and the
+//!   shell reuses the last render's tree only for the same geometry and eye
+//!   (bit for bit), so a reused tree is the tree a fresh run builds.
 //! - A ray carries its time; every ray spawned from it keeps it.
 //! - An object is entered by its inverse transform with the direction left
 //!   unnormalized, so a hit's `t` is the same in every coordinate system;
