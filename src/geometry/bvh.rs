@@ -184,7 +184,13 @@ pub struct Bvh {
     depth: usize,
     /// Triangles without area, left out.
     pub degenerate: usize,
+    /// This tree's number in the process, never reused: an `Occluder`
+    /// names its tree by it.
+    id: u64,
 }
+
+/// The next tree's `Bvh::id`.
+static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
 impl std::fmt::Debug for Bvh {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -239,6 +245,45 @@ struct Entry {
 /// at most `MAX_LEAF` primitives).
 const SHIFT: u32 = 8;
 const MASK: u32 = (1 << SHIFT) - 1;
+
+/// The kinds of leaf blocks a shadow ray tests one by one.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum BlockKind {
+    Triangles,
+    Spheres,
+}
+
+/// The block of primitives that last blocked a shadow ray (for
+/// `Bvh::transmittance_hinted`): which tree (`Bvh::id`), which block, of
+/// which kind.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct Occluder {
+    tree: u64,
+    block: u32,
+    kind: Option<BlockKind>,
+}
+
+impl Occluder {
+    pub const NONE: Occluder = Occluder { tree: 0, block: 0, kind: None };
+
+    /// Block `b` of `tree` (where `tree.blocks` holds it: its index is its
+    /// offset in the slice, found from the addresses, which are only
+    /// compared, never followed).
+    fn of(tree: &Bvh, b: &Block, kind: BlockKind) -> Occluder {
+        let offset = b as *const Block as usize - tree.blocks.as_ptr() as usize;
+        let block = (offset / std::mem::size_of::<Block>()) as u32;
+        Occluder { tree: tree.id, block, kind: Some(kind) }
+    }
+
+    /// The block, if it is one of `tree`'s.
+    fn block<'a>(&self, tree: &'a Bvh) -> Option<(BlockKind, &'a Block)> {
+        let kind = self.kind?;
+        if self.tree != tree.id {
+            return None;
+        }
+        Some((kind, tree.blocks.get(self.block as usize)?))
+    }
+}
 
 impl Bvh {
     /// Builds over `shapes`.
@@ -319,7 +364,8 @@ impl Bvh {
             normals[0] = index;
             recs.push(Rec { at: blocks::OBJECT, normals, material: u32::MAX, id });
         }
-        Bvh { nodes, blocks, recs, objects, unbounded: after, depth, degenerate }
+        let id = NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        Bvh { nodes, blocks, recs, objects, unbounded: after, depth, degenerate, id }
     }
 
     /// This tree's nodes, leaves and depth; the bytes of everything it
@@ -619,8 +665,39 @@ impl Bvh {
         ray: &Ray,
         t_min: f32,
         t_max: f32,
+        pass: impl FnMut(ShadowHit) -> Vec3,
+    ) -> Vec3 {
+        let mut none = Occluder::NONE;
+        self.transmittance_hinted(ray, t_min, t_max, &mut none, pass)
+    }
+
+    /// `transmittance` that first tests the block of primitives `last`
+    /// names (the one that blocked an earlier shadow ray toward the same
+    /// light: neighbouring shading points are mostly blocked by the same
+    /// surface, the shadow cache of Haines and Greenberg's light buffer,
+    /// 1986, and of POV-Ray) and updates it to the block that blocked this
+    /// ray. The value is `transmittance`'s, to the bit: a hit there with an
+    /// opaque surface (`pass` gives zero) is a hit the walk finds too, by
+    /// the same test, and makes the product zero in any order (`pass` is
+    /// finite); any other outcome is thrown away and the walk runs as
+    /// before. `last` may name any block of any tree, or none.
+    pub fn transmittance_hinted(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        last: &mut Occluder,
         mut pass: impl FnMut(ShadowHit) -> Vec3,
     ) -> Vec3 {
+        let mut pre: Option<Pre4> = None;
+        if let Some((kind, b)) = last.block(self) {
+            let mut opaque = |hit| pass(hit) == Vec3::ZERO;
+            if self.block_hits(b, kind, ray, (t_min, t_max), &mut pre, &mut opaque) {
+                return Vec3::ZERO;
+            }
+            // Missed: the next rays (most likely in the light too) skip it.
+            *last = Occluder::NONE;
+        }
         let mut through = Vec3::ONE;
         if !self.unbounded.is_empty() {
             through = self.objects_through(&self.unbounded, ray, (t_min, t_max), &mut pass);
@@ -629,38 +706,17 @@ impl Bvh {
             }
         }
         let mut t_end = t_max;
-        let mut pre: Option<Pre4> = None;
         let mut slabs = None;
-        let material = |prim: u32| self.recs[prim as usize].material;
         self.traverse::<false>(ray, t_min, &mut t_end, |tris, spheres, objects, t_max| {
-            for b in tris {
-                let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
-                let blocked = b.each_triangle_hit(pre, t_min, *t_max, |l, t, uv| {
-                    let rec = &self.recs[b.prim[l] as usize];
-                    through *= pass(ShadowHit {
-                        corners: rec.normals,
-                        uv,
-                        ..ShadowHit::new(rec.material, t)
-                    });
-                    through == Vec3::ZERO
-                });
-                if blocked {
-                    return true;
-                }
-            }
-            for b in spheres {
-                // Four at once first; then each sphere hit, root by root.
-                let (mut mask, _) = b.spheres(ray, t_min, *t_max);
-                while mask != 0 {
-                    let l = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let mut from = t_min;
-                    while let Some(t) = b.sphere(l, ray, from, *t_max) {
-                        through *= pass(ShadowHit::new(material(b.prim[l]), t));
-                        if through == Vec3::ZERO {
-                            return true;
-                        }
-                        from = t;
+            for (kind, blocks) in [(BlockKind::Triangles, tris), (BlockKind::Spheres, spheres)] {
+                for b in blocks {
+                    let mut each = |hit| {
+                        through *= pass(hit);
+                        through == Vec3::ZERO
+                    };
+                    if self.block_hits(b, kind, ray, (t_min, *t_max), &mut pre, &mut each) {
+                        *last = Occluder::of(self, b, kind);
+                        return true;
                     }
                 }
             }
@@ -674,6 +730,48 @@ impl Bvh {
             false
         });
         through
+    }
+
+    /// Calls `each` for each hit of block `b` (of `kind`) in `(t_min,
+    /// t_max)`: triangles in lane order, spheres lane by lane and root by
+    /// root, as a shadow walk meets them; stops, and returns true, as soon
+    /// as `each` returns true.
+    #[inline(always)]
+    fn block_hits(
+        &self,
+        b: &Block,
+        kind: BlockKind,
+        ray: &Ray,
+        (t_min, t_max): (f32, f32),
+        pre: &mut Option<Pre4>,
+        each: &mut impl FnMut(ShadowHit) -> bool,
+    ) -> bool {
+        match kind {
+            BlockKind::Triangles => {
+                let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
+                b.each_triangle_hit(pre, t_min, t_max, |l, t, uv| {
+                    let rec = &self.recs[b.prim[l] as usize];
+                    each(ShadowHit { corners: rec.normals, uv, ..ShadowHit::new(rec.material, t) })
+                })
+            }
+            BlockKind::Spheres => {
+                // Four at once first; then each sphere hit, root by root.
+                let (mut mask, _) = b.spheres(ray, t_min, t_max);
+                while mask != 0 {
+                    let l = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let mut from = t_min;
+                    while let Some(t) = b.sphere(l, ray, from, t_max) {
+                        let material = self.recs[b.prim[l] as usize].material;
+                        if each(ShadowHit::new(material, t)) {
+                            return true;
+                        }
+                        from = t;
+                    }
+                }
+                false
+            }
+        }
     }
 
     /// Walks the nodes the ray's segment overlaps, nearest child first, and

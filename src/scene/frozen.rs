@@ -15,8 +15,8 @@ use super::material::Material;
 use super::objects::{CsgTree, LeafDef, ObjDef, ObjKind};
 use super::texture::Image;
 use crate::geometry::{
-    Blob, Bvh, Csg, CsgLeaf, CsgNode, CsgShape, Flake, Hit, Kind, Located, Menger, Object, Place,
-    Ray, ShadowHit, Shape,
+    Blob, Bvh, Csg, CsgLeaf, CsgNode, CsgShape, Flake, Hit, Kind, Located, Menger, Object,
+    Occluder, Place, Ray, ShadowHit, Shape,
 };
 
 pub struct Scene {
@@ -148,6 +148,20 @@ impl Scene {
         pass: impl FnMut(ShadowHit) -> Vec3,
     ) -> Vec3 {
         self.bvh.transmittance(ray, 0.0, t_max, pass)
+    }
+
+    /// `transmittance`, testing first the block of primitives that blocked
+    /// the last shadow ray `last` was given (see
+    /// `Bvh::transmittance_hinted`): the same value, to the bit.
+    #[inline]
+    pub fn transmittance_hinted(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        last: &mut Occluder,
+        pass: impl FnMut(ShadowHit) -> Vec3,
+    ) -> Vec3 {
+        self.bvh.transmittance_hinted(ray, 0.0, t_max, last, pass)
     }
 
     /// Warnings worth printing before a render.

@@ -331,3 +331,63 @@ fn packets_agree_with_single_rays() {
         assert!(packets > 200, "{packets}");
     }
 }
+
+/// A shadow ray that first tests the block that blocked an earlier one
+/// finds what the plain walk finds, to the bit: with opaque and partly
+/// transparent surfaces, hints from rays anywhere, and a hint from
+/// another tree (which names none of this one's blocks).
+#[test]
+fn occluder_hints_change_no_shadow() {
+    let mut seed = 17;
+    let shapes = random_scene(2000, &mut seed);
+    let bvh = Bvh::build(&shapes);
+    let other = Bvh::build(&random_scene(300, &mut seed));
+    // Some surfaces stop light, others let half through (by where they
+    // are hit, so the same surface answers the same each time).
+    let half = |h: ShadowHit| {
+        if ((h.t * 64.0) as u32).is_multiple_of(3) { Vec3::ZERO } else { Vec3::splat(0.5) }
+    };
+    let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+    let (mut last, mut foreign, mut reused, mut early) = (Occluder::NONE, Occluder::NONE, 0, 0);
+    // Shadow segments as a renderer makes them: runs of 20 from points
+    // close together toward one light.
+    let (mut base, mut light) = (Vec3::ZERO, Vec3::ZERO);
+    for i in 0..4000 {
+        let mut p = || Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed));
+        if i % 20 == 0 {
+            (base, light) = (p() * 10.0, p() * 14.0 - 2.0);
+        }
+        let o = base + (p() - 0.5) * 0.2;
+        let ray = Ray::new(o, light - o);
+        let t_max = 1.0;
+        let before = last;
+        for pass in [&(|_: ShadowHit| Vec3::ZERO) as &dyn Fn(ShadowHit) -> Vec3, &half] {
+            let plain = bvh.transmittance(&ray, 0.0, t_max, pass);
+            // Whether the hinted block alone settles it (the fast path).
+            if let Some((kind, b)) = before.block(&bvh) {
+                let mut opaque = |h| pass(h) == Vec3::ZERO;
+                early += bvh.block_hits(b, kind, &ray, (0.0, t_max), &mut None, &mut opaque) as u32;
+            }
+            let mut hint = before;
+            let hinted = bvh.transmittance_hinted(&ray, 0.0, t_max, &mut hint, pass);
+            assert_eq!(bits(hinted), bits(plain), "ray {i}");
+            if hint != before {
+                last = hint;
+            }
+            let mut f = foreign;
+            assert_eq!(bits(bvh.transmittance_hinted(&ray, 0.0, t_max, &mut f, pass)), bits(plain));
+        }
+        reused += (before.kind.is_some()) as u32;
+        // Now and then, a hint from the other tree.
+        if i % 7 == 0 {
+            let mut f = foreign;
+            other.transmittance_hinted(&ray, 0.0, t_max, &mut f, |_| Vec3::ZERO);
+            if f.kind.is_some() {
+                foreign = f;
+            }
+        }
+    }
+    assert!(reused > 1000, "hints were rarely there to use: {reused}");
+    assert!(early > 50, "the hinted block alone blocked only {early} rays");
+    assert!(foreign.kind.is_some() && foreign.block(&bvh).is_none());
+}
