@@ -31,7 +31,7 @@ use glam::Vec3;
 
 use super::sample;
 use super::tracer::{
-    Look, Media, OFFSET, RayStats, Surface, highlight, offset, reflect, refract, surface,
+    Look, Media, OCCLUDERS, OFFSET, RayStats, Surface, highlight, offset, reflect, refract, surface,
 };
 use crate::geometry::{Local, Ray};
 use crate::scene::Scene;
@@ -170,7 +170,9 @@ pub fn radiance(scene: &Scene, camera_ray: &Ray, st: &mut RayStats) -> Vec3 {
                     let t_max =
                         if dist.is_finite() { dist * (1.0 - 2.0 * OFFSET) } else { f32::INFINITY };
                     st.shadow += 1;
-                    let open = scene.transmittance(&ray.spawn(origin, dir), t_max, |_| Vec3::ZERO)
+                    let last = &mut st.occluders[i % OCCLUDERS];
+                    let shadow = ray.spawn(origin, dir);
+                    let open = scene.transmittance_hinted(&shadow, t_max, last, |_| Vec3::ZERO)
                         != Vec3::ZERO;
                     if open && ls.pdf == 0.0 {
                         // A point, spot or parallel light (its number,
