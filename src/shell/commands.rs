@@ -127,9 +127,10 @@ const VIEW_ONLY: &[&str] = &[
     "exposure",
 ];
 
-/// `edit` or `edit_view`, as the command `name` needs.
-fn edit_for<'a>(scene: &'a Shared, name: &str) -> std::cell::RefMut<'a, Builder> {
-    if VIEW_ONLY.contains(&name) { edit_view(scene) } else { edit(scene) }
+/// `edit` or `edit_view` (as `VIEW_ONLY` says for the command, once, when
+/// it is registered).
+fn editor(name: &str) -> fn(&Shared) -> std::cell::RefMut<'_, Builder> {
+    if VIEW_ONLY.contains(&name) { edit_view } else { edit }
 }
 
 /// Registers a numeric scene command that changes the builder.
@@ -144,8 +145,9 @@ pub(super) fn numeric(
     let arity = usage.split_whitespace().count();
     let s = scene.clone();
     let (n, u) = (name.to_string(), usage.to_string());
+    let change = editor(name);
     interp.register_numeric(name, arity, usage, summary, move |_, nums| {
-        let mut b = edit_for(&s, &n);
+        let mut b = change(&s);
         f(&mut b, &Args { nums, name: &n, usage: &u })
     });
 }
@@ -188,6 +190,7 @@ pub(super) fn numeric_opt(
     let max = words.len();
     let s = scene.clone();
     let (n, u) = (name.to_string(), usage.to_string());
+    let change = editor(name);
     interp.register_host(name, usage, summary, move |_, argv| {
         check_args(argv, max + 1 - optional, max + 1, &u)?;
         let mut nums = Vec::with_capacity(argv.len() - 1);
@@ -200,7 +203,7 @@ pub(super) fn numeric_opt(
                 ))
             })?);
         }
-        let mut b = edit_for(&s, &n);
+        let mut b = change(&s);
         f(&mut b, &Args { nums: &nums, name: &n, usage: &u }, nums.len())?;
         Ok(Value::empty())
     });

@@ -656,8 +656,8 @@ impl AtomicFile {
     /// Flushes and renames the file into place.
     pub fn commit(mut self) -> std::io::Result<()> {
         let w = self.file.take().expect("committed once");
-        let file = w.into_inner().map_err(|e| e.into_error())?.0;
-        drop(file);
+        // Flushed and closed (no sync: see above).
+        w.into_inner().map_err(|e| e.into_error())?;
         std::fs::rename(&self.tmp, &self.path)?;
         feedback::remove_temp(&self.tmp);
         Ok(())

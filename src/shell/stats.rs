@@ -123,24 +123,17 @@ impl std::fmt::Display for RenderReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let mib = |b: u64| b as f64 / (1 << 20) as f64;
         writeln!(f, "parse      {:.3} s", self.parse_seconds)?;
-        if self.reused {
-            writeln!(
-                f,
-                "bvh build  {:.3} s  ({} primitives, {} {}-wide nodes, depth {}; the last render's tree, reused)",
-                self.build_seconds, self.primitives, self.nodes, self.node_width, self.depth
-            )?;
+        let speed = if self.reused {
+            "the last render's tree, reused".to_string()
         } else {
-            writeln!(
-                f,
-                "bvh build  {:.3} s  ({} primitives, {} {}-wide nodes, depth {}, {:.2} M primitives/s)",
-                self.build_seconds,
-                self.primitives,
-                self.nodes,
-                self.node_width,
-                self.depth,
-                self.primitives as f64 / self.build_seconds.max(1e-9) / 1e6
-            )?;
-        }
+            let rate = self.primitives as f64 / self.build_seconds.max(1e-9) / 1e6;
+            format!("{rate:.2} M primitives/s")
+        };
+        writeln!(
+            f,
+            "bvh build  {:.3} s  ({} primitives, {} {}-wide nodes, depth {}; {speed})",
+            self.build_seconds, self.primitives, self.nodes, self.node_width, self.depth
+        )?;
         writeln!(f, "render     {:.3} s  ({}x{})", self.render_seconds, self.width, self.height)?;
         let r = &self.rays;
         writeln!(
