@@ -969,17 +969,90 @@ fn widen<S: Slots>(
     recs: &mut [Rec],
 ) -> (Vec<S>, usize) {
     let nodes = Vec::with_capacity(bin.len() / (S::N - 1) + 1);
-    let mut w = Widen { bin, shapes, nodes, blocks, recs, depth: 0 };
+    let plan = Plan::new(bin, S::N);
+    let mut w = Widen { bin, plan, shapes, nodes, blocks, recs, depth: 0 };
     w.run();
     (w.nodes, w.depth)
 }
 
-/// Collapses the binary build tree into a tree of `S::N`-wide nodes: each
-/// wide node takes a binary node's children and opens the largest interior
-/// ones among them until it has `S::N`. Leaves become blocks of four,
-/// triangles first. Nodes are laid out root first, depth-first.
+/// How to cover each binary subtree with wide-node slots: the way, of all
+/// of them, that makes the wide nodes' surface areas least, by the dynamic
+/// programme of Ylitie, Karras and Laine ("Efficient incoherent ray
+/// traversal on GPUs through compressed wide BVHs", 2017) with the binary
+/// tree's leaves kept as they are. `cost[n][i - 1]` is the least sum of
+/// areas of the wide nodes below binary node `n` when it is covered by at
+/// most `i` slots: one slot (a wide node of its own, or a leaf) or, when
+/// `n` is opened, its children's slots shared out between them. By the
+/// surface area heuristic, a ray meets a node with a likelihood that goes
+/// as its area, so the least sum is the fewest node tests; it also fills
+/// nodes that opening the largest child first leaves half empty (on the
+/// bunny, 2,160 8-wide nodes where that made 3,759).
+struct Plan {
+    cost: Vec<[f32; 8]>,
+}
+
+impl Plan {
+    fn new(bin: &[Node], width: usize) -> Plan {
+        let mut cost = vec![[0.0; 8]; bin.len()];
+        // Children follow their parent, so a reverse walk meets them first.
+        for i in (0..bin.len()).rev() {
+            let node = &bin[i];
+            if node.count > 0 {
+                continue;
+            }
+            let (l, r) = (i + 1, node.offset as usize);
+            let shared = |k| Plan::shared(&cost, l, r, k).0;
+            let mut c = [0.0; 8];
+            c[0] = node.bounds().surface_area() + shared(width);
+            for k in 2..=width {
+                c[k - 1] = shared(k).min(c[k - 2]);
+            }
+            cost[i] = c;
+        }
+        Plan { cost }
+    }
+
+    /// The least cost of siblings `l` and `r` in at most `k` slots
+    /// together, and how many of the slots go to `l`.
+    fn shared(cost: &[[f32; 8]], l: usize, r: usize, k: usize) -> (f32, usize) {
+        (1..k)
+            .map(|j| (cost[l][j - 1] + cost[r][k - j - 1], j))
+            .fold((f32::INFINITY, 1), |a, b| if b.0 < a.0 { b } else { a })
+    }
+
+    /// Appends the slots that cover subtree `i` of `bin` in at most `k`
+    /// of them: the fewest that reach the least cost.
+    fn slots(&self, bin: &[Node], i: usize, k: usize, out: &mut Vec<usize>) {
+        // A leaf's costs are all 0, so it takes one slot.
+        let c = &self.cost[i];
+        let k = (1..=k).find(|&j| c[j - 1] == c[k - 1]).unwrap_or(k);
+        if k == 1 {
+            out.push(i);
+            return;
+        }
+        let (l, r) = (i + 1, bin[i].offset as usize);
+        let (_, j) = Plan::shared(&self.cost, l, r, k);
+        self.slots(bin, l, j, out);
+        self.slots(bin, r, k - j, out);
+    }
+
+    /// The slots of the wide node that subtree `i` (interior) becomes.
+    fn kids(&self, bin: &[Node], i: usize, width: usize) -> Vec<usize> {
+        let mut kids = Vec::with_capacity(width);
+        let (l, r) = (i + 1, bin[i].offset as usize);
+        let (_, j) = Plan::shared(&self.cost, l, r, width);
+        self.slots(bin, l, j, &mut kids);
+        self.slots(bin, r, width - j, &mut kids);
+        kids
+    }
+}
+
+/// Collapses the binary build tree into a tree of `S::N`-wide nodes as
+/// `Plan` chose. Leaves become blocks of four, triangles first. Nodes are
+/// laid out root first, depth-first.
 struct Widen<'a, S> {
     bin: &'a [Node],
+    plan: Plan,
     /// The primitives in leaf order, with their numbers in the scene (each
     /// leaf's are reordered, triangles first, as they are packed).
     shapes: &'a mut [(u32, Shape)],
@@ -1031,27 +1104,14 @@ impl<S: Slots> Widen<'_, S> {
         (start, counts[0] | counts[1] << SHIFT | counts[2] << (2 * SHIFT))
     }
 
+    /// Emits subtree `i` (interior) as a wide node; returns its index.
     fn node(&mut self, i: usize, level: usize) -> u32 {
         self.depth = self.depth.max(level);
-        let bin = self.bin;
-        let mut kids = [0; 8];
-        kids[..2].copy_from_slice(&[i + 1, bin[i].offset as usize]);
-        let mut k = 2;
-        while k < S::N {
-            let open = (0..k)
-                .filter(|&j| bin[kids[j]].count == 0)
-                .map(|j| (j, bin[kids[j]].bounds().surface_area()))
-                .reduce(|a, b| if b.1 > a.1 { b } else { a });
-            let Some((j, _)) = open else { break };
-            let n = kids[j];
-            kids[j] = n + 1;
-            kids[k] = bin[n].offset as usize;
-            k += 1;
-        }
+        let kids = self.plan.kids(self.bin, i, S::N);
         let me = self.nodes.len();
         self.nodes.push(S::EMPTY);
-        for (slot, &c) in kids[..k].iter().enumerate() {
-            let n = &bin[c];
+        for (slot, &c) in kids.iter().enumerate() {
+            let n = &self.bin[c];
             let (child, count) =
                 if n.count > 0 { self.leaf(n) } else { (self.node(c, level + 1), 0) };
             self.nodes[me].set(slot, n.bounds(), child, count);

@@ -391,3 +391,101 @@ fn occluder_hints_change_no_shadow() {
     assert!(early > 50, "the hinted block alone blocked only {early} rays");
     assert!(foreign.kind.is_some() && foreign.block(&bvh).is_none());
 }
+
+/// The wide nodes made from the binary tree have the least sum of areas of
+/// every way of covering it (checked against all the covers, listed one by
+/// one), and never more than opening the largest child first, the rule the
+/// plan replaced.
+#[test]
+fn wide_nodes_have_the_least_area() {
+    fn area(bin: &[Node], i: usize) -> f32 {
+        bin[i].bounds().surface_area()
+    }
+    fn children(bin: &[Node], i: usize) -> (usize, usize) {
+        (i + 1, bin[i].offset as usize)
+    }
+    fn prims(bin: &[Node], i: usize) -> u32 {
+        let (l, r) = children(bin, i);
+        if bin[i].count > 0 { bin[i].count } else { prims(bin, l) + prims(bin, r) }
+    }
+    /// One past the last node of subtree `i` (laid out depth-first).
+    fn end(bin: &[Node], i: usize) -> usize {
+        if bin[i].count > 0 { i + 1 } else { end(bin, children(bin, i).1) }
+    }
+    /// The area sum of the wide nodes that `plan` makes of subtree `i`.
+    fn emitted(bin: &[Node], plan: &Plan, i: usize, width: usize) -> f32 {
+        let kids = plan.kids(bin, i, width);
+        assert!((2..=width).contains(&kids.len()));
+        // Descendants of `i` that hold all of its primitives: a cover.
+        assert!(kids.iter().all(|&k| k > i && k < end(bin, i)));
+        assert_eq!(kids.iter().map(|&k| prims(bin, k)).sum::<u32>(), prims(bin, i));
+        let below = kids.iter().filter(|&&k| bin[k].count == 0);
+        area(bin, i) + below.map(|&k| emitted(bin, plan, k, width)).sum::<f32>()
+    }
+    /// Every cover of subtree `i` by at most `k` slots.
+    fn covers(bin: &[Node], i: usize, k: usize) -> Vec<Vec<usize>> {
+        let mut all = vec![vec![i]];
+        if bin[i].count == 0 && k >= 2 {
+            let (l, r) = children(bin, i);
+            for a in covers(bin, l, k - 1) {
+                for b in covers(bin, r, k - a.len()) {
+                    all.push([a.clone(), b].concat());
+                }
+            }
+        }
+        all
+    }
+    /// The least area sum of subtree `i` as a wide node, by listing covers.
+    fn least(bin: &[Node], i: usize, width: usize, memo: &mut Vec<Option<f32>>) -> f32 {
+        if let Some(c) = memo[i] {
+            return c;
+        }
+        let (l, r) = children(bin, i);
+        let mut best = f32::INFINITY;
+        for a in covers(bin, l, width - 1) {
+            for b in covers(bin, r, width - a.len()) {
+                let mut c = 0.0;
+                for &s in a.iter().chain(&b).filter(|&&s| bin[s].count == 0) {
+                    c += least(bin, s, width, memo);
+                }
+                best = best.min(c);
+            }
+        }
+        memo[i] = Some(area(bin, i) + best);
+        memo[i].unwrap()
+    }
+    /// The area sum when each wide node opens its largest child first.
+    fn greedy(bin: &[Node], i: usize, width: usize) -> f32 {
+        let (l, r) = children(bin, i);
+        let mut kids = vec![l, r];
+        while kids.len() < width {
+            let open = (0..kids.len())
+                .filter(|&j| bin[kids[j]].count == 0)
+                .max_by(|&a, &b| area(bin, kids[a]).total_cmp(&area(bin, kids[b])));
+            let Some(j) = open else { break };
+            let (l, r) = children(bin, kids[j]);
+            kids[j] = l;
+            kids.push(r);
+        }
+        let below = kids.iter().filter(|&&k| bin[k].count == 0);
+        area(bin, i) + below.map(|&k| greedy(bin, k, width)).sum::<f32>()
+    }
+
+    let mut seed = 41;
+    let shapes = random_scene(2000, &mut seed);
+    let mut prims: Vec<BuildPrim> =
+        shapes.iter().enumerate().map(|(i, s)| BuildPrim::new(s.bounds(), i as u32)).collect();
+    let both = bounds_of(&prims);
+    let bin = build_par(&mut prims, both, 0, 1);
+    assert_eq!(bin[0].count, 0);
+    let near = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.max(b);
+    for width in [4, 8] {
+        let plan = Plan::new(&bin, width);
+        let made = emitted(&bin, &plan, 0, width);
+        assert!(near(made, plan.cost[0][0]), "{made} {}", plan.cost[0][0]);
+        let listed = least(&bin, 0, width, &mut vec![None; bin.len()]);
+        assert!(near(made, listed), "width {width}: {made} made, {listed} least");
+        let old = greedy(&bin, 0, width);
+        assert!(made < old, "width {width}: {made} made, {old} by the largest child");
+    }
+}
