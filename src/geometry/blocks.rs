@@ -3,15 +3,17 @@
 //! the watertight (or sphere) test covers four primitives. Each lane does
 //! exactly the arithmetic of the scalar test in `shapes`, so the hits are
 //! the same to the bit. What shading needs besides positions lives in one `Rec` per
-//! primitive.
+//! lane, at the lane's own index (block * 4 + lane), which is also the
+//! primitive's number in `Hit::prim`: a block holds only coordinates.
 
 use glam::{Vec3, Vec4};
 
 use super::shapes::{RayPre, intersect_sphere};
 use super::{Ray, Shape, Triangle};
 
-/// A lane with no primitive: its coordinates are NaN, which no test
-/// accepts.
+/// No primitive (in a list of lanes some of which are left out). A lane
+/// with no primitive has NaN coordinates, which no test accepts, and an
+/// `Empty` record.
 pub(super) const NONE: u32 = u32::MAX;
 
 /// Four triangles (or spheres) of one leaf.
@@ -21,42 +23,82 @@ pub(super) struct Block {
     /// Triangles: x, y, z of vertex 0, then of vertex 1, then of vertex 2.
     /// Spheres: centre x, y, z and radius; the rest unused.
     pub v: [Vec4; 9],
-    /// Each lane's primitive (an index into the records), or `NONE`.
-    pub prim: [u32; 4],
 }
 
-/// Set in `Rec::at` for a sphere.
-pub(super) const SPHERE: u32 = 1 << 31;
-/// Set in `Rec::at` for an object (whose index is `normals[0]`).
-pub(super) const OBJECT: u32 = 1 << 30;
+/// What a lane holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Kind {
+    Triangle = 0,
+    Sphere = 1,
+    /// An object, whose index is `Rec::normals[0]`.
+    Object = 2,
+    /// Nothing: the padding of a leaf's last block.
+    Empty = 3,
+}
 
-/// One primitive in leaf order: where its geometry is (block * 4 + lane,
-/// with `SPHERE` for spheres), its vertex normals and material, and its
-/// number in the scene (the order it was added in, whatever the tree).
-#[derive(Clone, Copy, Debug, Default)]
+/// One lane's primitive: its vertex normals and material, its kind, and
+/// its number in the scene (the order it was added in, whatever the
+/// tree). 20 bytes: the kind takes the top two bits of the number.
+#[derive(Clone, Copy, Debug)]
 pub(super) struct Rec {
-    pub at: u32,
     pub normals: [u32; 3],
     pub material: u32,
-    pub id: u32,
+    tag: u32,
+}
+
+/// The bits of `Rec::tag` below the kind.
+const ID_BITS: u32 = 30;
+/// The largest number a record keeps: the primitives past it (in a scene
+/// of over 2^30) all keep it, so their ties (`Closest`) go to the one the
+/// walk meets first, still the same for any thread count.
+const ID_MAX: u32 = (1 << ID_BITS) - 1;
+
+impl Default for Rec {
+    /// An empty lane.
+    fn default() -> Rec {
+        Rec::new(Kind::Empty, [0; 3], 0, 0)
+    }
+}
+
+impl Rec {
+    pub fn new(kind: Kind, normals: [u32; 3], material: u32, id: u32) -> Rec {
+        Rec { normals, material, tag: (kind as u32) << ID_BITS | id.min(ID_MAX) }
+    }
+
+    #[inline(always)]
+    pub fn kind(&self) -> Kind {
+        match self.tag >> ID_BITS {
+            0 => Kind::Triangle,
+            1 => Kind::Sphere,
+            2 => Kind::Object,
+            _ => Kind::Empty,
+        }
+    }
+
+    /// The number in the scene (at most `ID_MAX`).
+    #[inline(always)]
+    pub fn id(&self) -> u32 {
+        self.tag & ID_MAX
+    }
+
+    pub fn set_id(&mut self, id: u32) {
+        *self = Rec::new(self.kind(), self.normals, self.material, id);
+    }
 }
 
 impl Block {
-    const EMPTY: Block = Block { v: [Vec4::NAN; 9], prim: [NONE; 4] };
+    const EMPTY: Block = Block { v: [Vec4::NAN; 9] };
 
-    /// Packs `shapes` (all triangles or all spheres, each with its number
-    /// in the scene), the primitives from `first` on, into blocks appended
-    /// to `blocks`, and their records.
-    pub fn pack(shapes: &[(u32, Shape)], first: u32, blocks: &mut Vec<Block>, recs: &mut [Rec]) {
-        for (c, chunk) in shapes.chunks(4).enumerate() {
+    /// Packs `shapes` (all of one kind, each with its number in the scene)
+    /// into blocks appended to `blocks`, and their lanes' records to
+    /// `recs` (which holds four per block).
+    pub fn pack(shapes: &[(u32, Shape)], blocks: &mut Vec<Block>, recs: &mut Vec<Rec>) {
+        debug_assert_eq!(recs.len(), blocks.len() * 4);
+        for chunk in shapes.chunks(4) {
             let mut b = Block::EMPTY;
-            let at = (blocks.len() * 4) as u32;
+            let mut lanes = [Rec::default(); 4];
             for (lane, (id, s)) in chunk.iter().enumerate() {
-                let prim = first + (c * 4 + lane) as u32;
-                b.prim[lane] = prim;
-                let rec = &mut recs[prim as usize];
-                rec.at = at + lane as u32;
-                rec.id = *id;
+                let rec = &mut lanes[lane];
                 match s {
                     Shape::Triangle(t) => {
                         for (k, p) in t.p.iter().enumerate() {
@@ -64,55 +106,51 @@ impl Block {
                                 b.v[3 * k + axis][lane] = p[axis];
                             }
                         }
-                        rec.normals = t.normals;
-                        rec.material = t.material;
+                        *rec = Rec::new(Kind::Triangle, t.normals, t.material, *id);
                     }
                     Shape::Sphere { center, radius, material } => {
                         for axis in 0..3 {
                             b.v[axis][lane] = center[axis];
                         }
                         b.v[3][lane] = *radius;
-                        rec.at |= SPHERE;
-                        rec.material = *material;
+                        *rec = Rec::new(Kind::Sphere, [0; 3], *material, *id);
                     }
                     Shape::Object { index, bounds } => {
                         for axis in 0..3 {
                             b.v[axis][lane] = bounds.min[axis];
                             b.v[3 + axis][lane] = bounds.max[axis];
                         }
-                        rec.at |= OBJECT;
-                        rec.normals[0] = *index;
-                        rec.material = u32::MAX;
+                        *rec = Rec::new(Kind::Object, [*index, 0, 0], u32::MAX, *id);
                     }
                 }
             }
             blocks.push(b);
+            recs.extend(lanes);
         }
     }
 
     /// The primitive in `lane`, as a shape.
     pub fn shape(&self, lane: usize, rec: &Rec) -> Shape {
         let v = |i: usize| self.v[i][lane];
-        if rec.at & OBJECT != 0 {
-            Shape::Object {
+        match rec.kind() {
+            Kind::Object => Shape::Object {
                 index: rec.normals[0],
                 bounds: crate::geometry::Aabb {
                     min: glam::Vec3A::new(v(0), v(1), v(2)),
                     max: glam::Vec3A::new(v(3), v(4), v(5)),
                 },
-            }
-        } else if rec.at & SPHERE != 0 {
-            Shape::Sphere {
+            },
+            Kind::Sphere => Shape::Sphere {
                 center: Vec3::new(v(0), v(1), v(2)),
                 radius: v(3),
                 material: rec.material,
-            }
-        } else {
-            Shape::Triangle(Triangle {
+            },
+            // (An empty lane: a triangle with NaN corners, never hit.)
+            Kind::Triangle | Kind::Empty => Shape::Triangle(Triangle {
                 p: [0, 3, 6].map(|k| Vec3::new(v(k), v(k + 1), v(k + 2))),
                 normals: rec.normals,
                 material: rec.material,
-            })
+            }),
         }
     }
 
@@ -213,12 +251,6 @@ impl Block {
     pub fn sphere(&self, lane: usize, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         let v = |i: usize| self.v[i][lane];
         intersect_sphere(ray, Vec3::new(v(0), v(1), v(2)), v(3), t_min, t_max)
-    }
-
-    /// The lanes that hold a primitive.
-    #[cfg(test)]
-    pub fn lanes(&self) -> impl Iterator<Item = usize> + '_ {
-        (0..4).filter(|&l| self.prim[l] != NONE)
     }
 }
 

@@ -12,7 +12,7 @@ use std::cell::Cell;
 use glam::{Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
-use super::blocks::{self, Block, Pre4, Rec};
+use super::blocks::{self, Block, Kind, Pre4, Rec};
 use super::object::ShadowHit;
 use super::object::{Local, Located, Object};
 use super::shapes::RayPre;
@@ -72,19 +72,6 @@ pub struct BvhStats {
     pub width: Width,
 }
 
-/// The objects of a block whose boxes the segment `(t_min, t_max)` of
-/// the ray enters (the others `NONE`): the tree's own slab test, on the
-/// boxes the block keeps, so an object is tested (transformed, solved in
-/// double precision) only where it can be hit. The test is conservative
-/// as the walk's is, so it changes no hit.
-/// `slabs`: the ray's slab constants, made at its first object block.
-fn entered(b: &Block, ray: &Ray, slabs: &mut Option<Slabs4>, t_min: f32, t_max: f32) -> [u32; 4] {
-    let boxes = [[b.v[0], b.v[1], b.v[2]], [b.v[3], b.v[4], b.v[5]]];
-    let slabs = slabs.get_or_insert_with(|| Four.slabs(ray));
-    let mask = Four.hit_boxes(&boxes, slabs, t_min, t_max);
-    std::array::from_fn(|l| if mask & (1 << l) != 0 { b.prim[l] } else { blocks::NONE })
-}
-
 /// The closest hit along one ray so far. Hits within `TIE` of each other
 /// (coplanar surfaces) go to the primitive added first, whatever the
 /// tree's layout, the order of the walk or the lane.
@@ -99,7 +86,7 @@ impl Closest {
     /// Keeps `hit` if it is better, shortening `t_max` to it.
     #[inline(always)]
     fn consider(&mut self, recs: &[Rec], hit: Hit, t_max: &mut f32) {
-        let id = |prim: u32| recs[prim as usize].id;
+        let id = |prim: u32| recs[prim as usize].id();
         let better = match self.best {
             None => true,
             Some(b) if hit.t < b.t * (1.0 - TIE) => true,
@@ -174,9 +161,11 @@ pub struct Bvh {
     /// The leaves' geometry: each leaf's triangle blocks, then its sphere
     /// blocks, then its object blocks.
     blocks: Vec<Block>,
-    /// One record per primitive, in leaf order (the order of `Hit::prim`),
+    /// One record per lane of `blocks` (`Hit::prim` is block * 4 + lane),
     /// then the unbounded objects'.
     recs: Vec<Rec>,
+    /// The number of primitives (the records less the empty lanes).
+    len: usize,
     /// What the object blocks point to.
     objects: Vec<Object>,
     /// The primitives (objects) with no bounds, tested by every ray.
@@ -194,7 +183,7 @@ static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new
 
 impl std::fmt::Debug for Bvh {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Bvh({} primitives, {} objects)", self.recs.len(), self.objects.len())
+        write!(f, "Bvh({} primitives, {} objects)", self.len, self.objects.len())
     }
 }
 
@@ -266,13 +255,9 @@ pub struct Occluder {
 impl Occluder {
     pub const NONE: Occluder = Occluder { tree: 0, block: 0, kind: None };
 
-    /// Block `b` of `tree` (where `tree.blocks` holds it: its index is its
-    /// offset in the slice, found from the addresses, which are only
-    /// compared, never followed).
+    /// Block `b` of `tree`.
     fn of(tree: &Bvh, b: &Block, kind: BlockKind) -> Occluder {
-        let offset = b as *const Block as usize - tree.blocks.as_ptr() as usize;
-        let block = (offset / std::mem::size_of::<Block>()) as u32;
-        Occluder { tree: tree.id, block, kind: Some(kind) }
+        Occluder { tree: tree.id, block: tree.block_index(b), kind: Some(kind) }
     }
 
     /// The block, if it is one of `tree`'s.
@@ -345,7 +330,7 @@ impl Bvh {
             prims.par_iter().map(|p| (p.index() as u32, shape(p.index()))).collect();
         drop(prims);
         let mut blocks = Vec::with_capacity(n / 4 + 1);
-        let mut recs = vec![Rec::default(); n];
+        let mut recs = Vec::with_capacity(n + n / 4 + 4);
         let (nodes, depth) = match width {
             #[cfg(target_arch = "x86_64")]
             Width::Eight if let Some(avx) = Avx2::new() => {
@@ -362,10 +347,11 @@ impl Bvh {
             after.push(recs.len() as u32);
             let mut normals = [0; 3];
             normals[0] = index;
-            recs.push(Rec { at: blocks::OBJECT, normals, material: u32::MAX, id });
+            recs.push(Rec::new(Kind::Object, normals, u32::MAX, id));
         }
         let id = NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        Bvh { nodes, blocks, recs, objects, unbounded: after, depth, degenerate, id }
+        let len = n + after.len();
+        Bvh { nodes, blocks, recs, len, objects, unbounded: after, depth, degenerate, id }
     }
 
     /// This tree's nodes, leaves and depth; the bytes of everything it
@@ -404,11 +390,50 @@ impl Bvh {
 
     /// The number of primitives.
     pub fn len(&self) -> usize {
-        self.recs.len()
+        self.len
     }
 
     pub fn is_empty(&self) -> bool {
-        self.recs.is_empty()
+        self.len == 0
+    }
+
+    /// The index of block `b`, one of `self.blocks` (found from the
+    /// addresses, which are only compared, never followed).
+    #[inline(always)]
+    fn block_index(&self, b: &Block) -> u32 {
+        let offset = b as *const Block as usize - self.blocks.as_ptr() as usize;
+        (offset / std::mem::size_of::<Block>()) as u32
+    }
+
+    /// The objects of block `b` whose boxes the segment `(t_min, t_max)`
+    /// of the ray enters (the others `NONE`): the tree's own slab test, on
+    /// the boxes the block keeps, so an object is tested (transformed,
+    /// solved in double precision) only where it can be hit. The test is
+    /// conservative as the walk's is, so it changes no hit. `slabs`: the
+    /// ray's slab constants, made at its first object block.
+    fn entered(
+        &self,
+        b: &Block,
+        ray: &Ray,
+        slabs: &mut Option<Slabs4>,
+        t_min: f32,
+        t_max: f32,
+    ) -> [u32; 4] {
+        let boxes = [[b.v[0], b.v[1], b.v[2]], [b.v[3], b.v[4], b.v[5]]];
+        let slabs = slabs.get_or_insert_with(|| Four.slabs(ray));
+        let mask = Four.hit_boxes(&boxes, slabs, t_min, t_max);
+        // (An empty lane's NaN box may pass the slab test.)
+        std::array::from_fn(|l| {
+            let prim = self.prim(b, l);
+            let full = self.recs[prim as usize].kind() != Kind::Empty;
+            if mask & (1 << l) != 0 && full { prim } else { blocks::NONE }
+        })
+    }
+
+    /// The primitive in `lane` of block `b`, one of `self.blocks`.
+    #[inline(always)]
+    fn prim(&self, b: &Block, lane: usize) -> u32 {
+        self.block_index(b) * 4 + lane as u32
     }
 
     /// Primitive `prim` (as numbered by `Hit::prim`).
@@ -417,15 +442,14 @@ impl Bvh {
         if self.unbounded.contains(&prim) {
             return Shape::Object { index: rec.normals[0], bounds: Aabb::EMPTY };
         }
-        let at = (rec.at & !(blocks::SPHERE | blocks::OBJECT)) as usize;
-        self.blocks[at / 4].shape(at % 4, rec)
+        self.blocks[prim as usize / 4].shape(prim as usize % 4, rec)
     }
 
     /// The object of primitive `prim`, if it is one.
     #[inline]
     fn object(&self, prim: u32) -> Option<&Object> {
         let rec = &self.recs[prim as usize];
-        (rec.at & blocks::OBJECT != 0).then(|| &self.objects[rec.normals[0] as usize])
+        (rec.kind() == Kind::Object).then(|| &self.objects[rec.normals[0] as usize])
     }
 
     /// The surface of `hit` (found by `intersect` for `ray`), resolved to
@@ -468,7 +492,8 @@ impl Bvh {
     #[inline]
     pub fn own_material(&self, prim: u32) -> Option<u32> {
         let rec = &self.recs[prim as usize];
-        (rec.at & blocks::OBJECT == 0 && !self.unbounded.contains(&prim)).then_some(rec.material)
+        // (The unbounded primitives are objects too.)
+        matches!(rec.kind(), Kind::Triangle | Kind::Sphere).then_some(rec.material)
     }
 
     /// The material of primitive `prim`.
@@ -477,22 +502,23 @@ impl Bvh {
     }
 
     /// The number in the scene of primitive `prim` (its index in the
-    /// shapes the tree was built from).
+    /// shapes the tree was built from; at most 2^30 - 1, which all later
+    /// primitives share).
     pub fn id(&self, prim: u32) -> u32 {
-        self.recs[prim as usize].id
+        self.recs[prim as usize].id()
     }
 
     /// Renumbers the primitives for the tie rule: the tree was built over
     /// a part of the scene whose primitive `i` is number `ids[i]` in it.
     pub fn renumber(&mut self, ids: &[u32]) {
-        for r in &mut self.recs {
-            r.id = ids[r.id as usize];
+        for r in self.recs.iter_mut().filter(|r| r.kind() != Kind::Empty) {
+            r.set_id(ids[r.id() as usize]);
         }
     }
 
     /// The number of triangles (the rest are spheres and objects).
     pub fn triangles(&self) -> usize {
-        self.recs.iter().filter(|r| r.at & (blocks::SPHERE | blocks::OBJECT) == 0).count()
+        self.recs.iter().filter(|r| r.kind() == Kind::Triangle).count()
     }
 
     /// The number of objects, and of primitives inside them (instances
@@ -501,9 +527,11 @@ impl Bvh {
         self.objects.len()
     }
 
-    /// Every primitive, numbered as `Hit::prim` numbers them.
+    /// Every primitive, in the order of `Hit::prim`.
     pub fn shapes(&self) -> Vec<Shape> {
-        (0..self.recs.len() as u32).map(|i| self.shape(i)).collect()
+        let prims =
+            (0..self.recs.len() as u32).filter(|&i| self.recs[i as usize].kind() != Kind::Empty);
+        prims.map(|i| self.shape(i)).collect()
     }
 
     /// The bounds of everything in the tree; empty when it has nothing,
@@ -557,7 +585,7 @@ impl Bvh {
         for b in tris {
             let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
             b.each_triangle_hit(pre, t_min, *t_max, |l, t, uv| {
-                c.consider(&self.recs, Hit { t, prim: b.prim[l], uv, sub: 0 }, t_max);
+                c.consider(&self.recs, Hit { t, prim: self.prim(b, l), uv, sub: 0 }, t_max);
                 false
             });
         }
@@ -566,12 +594,12 @@ impl Bvh {
             while mask != 0 {
                 let l = mask.trailing_zeros() as usize;
                 mask &= mask - 1;
-                let hit = Hit { t: t[l], prim: b.prim[l], uv: [0.0; 2], sub: 0 };
+                let hit = Hit { t: t[l], prim: self.prim(b, l), uv: [0.0; 2], sub: 0 };
                 c.consider(&self.recs, hit, t_max);
             }
         }
         for b in objects {
-            let prims = entered(b, ray, slabs, t_min, *t_max);
+            let prims = self.entered(b, ray, slabs, t_min, *t_max);
             let mut consider = |hit, t_max: &mut f32| c.consider(&self.recs, hit, t_max);
             self.objects_hit(&prims, ray, t_min, t_max, &mut consider);
         }
@@ -602,14 +630,17 @@ impl Bvh {
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
-                    each(t[l] + back, b.prim[l]);
+                    each(t[l] + back, self.prim(b, l));
                 }
             }
             for b in spheres {
-                for l in (0..4).filter(|&l| b.prim[l] != blocks::NONE) {
-                    let mut from = 0.0;
+                for l in 0..4 {
+                    let (mut from, prim) = (0.0, self.prim(b, l));
+                    if self.recs[prim as usize].kind() == Kind::Empty {
+                        continue;
+                    }
                     while let Some(t) = b.sphere(l, &start, from, *t_max) {
-                        each(t + back, b.prim[l]);
+                        each(t + back, prim);
                         from = t;
                     }
                 }
@@ -721,7 +752,7 @@ impl Bvh {
                 }
             }
             for b in objects {
-                let prims = entered(b, ray, &mut slabs, t_min, *t_max);
+                let prims = self.entered(b, ray, &mut slabs, t_min, *t_max);
                 through *= self.objects_through(&prims, ray, (t_min, *t_max), &mut pass);
                 if through == Vec3::ZERO {
                     return true;
@@ -750,7 +781,7 @@ impl Bvh {
             BlockKind::Triangles => {
                 let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
                 b.each_triangle_hit(pre, t_min, t_max, |l, t, uv| {
-                    let rec = &self.recs[b.prim[l] as usize];
+                    let rec = &self.recs[self.prim(b, l) as usize];
                     each(ShadowHit { corners: rec.normals, uv, ..ShadowHit::new(rec.material, t) })
                 })
             }
@@ -762,7 +793,7 @@ impl Bvh {
                     mask &= mask - 1;
                     let mut from = t_min;
                     while let Some(t) = b.sphere(l, ray, from, t_max) {
-                        let material = self.recs[b.prim[l] as usize].material;
+                        let material = self.recs[self.prim(b, l) as usize].material;
                         if each(ShadowHit::new(material, t)) {
                             return true;
                         }
@@ -966,7 +997,7 @@ fn widen<S: Slots>(
     bin: &[Node],
     shapes: &mut [(u32, Shape)],
     blocks: &mut Vec<Block>,
-    recs: &mut [Rec],
+    recs: &mut Vec<Rec>,
 ) -> (Vec<S>, usize) {
     let nodes = Vec::with_capacity(bin.len() / (S::N - 1) + 1);
     let plan = Plan::new(bin, S::N);
@@ -1058,7 +1089,7 @@ struct Widen<'a, S> {
     shapes: &'a mut [(u32, Shape)],
     nodes: Vec<S>,
     blocks: &'a mut Vec<Block>,
-    recs: &'a mut [Rec],
+    recs: &'a mut Vec<Rec>,
     depth: usize,
 }
 
@@ -1097,7 +1128,7 @@ impl<S: Slots> Widen<'_, S> {
             let n = mine[from..].iter().take_while(|s| kind(&s.1) == k).count();
             let before = self.blocks.len();
             let prims = &mine[from..from + n];
-            Block::pack(prims, (first + from) as u32, self.blocks, self.recs);
+            Block::pack(prims, self.blocks, self.recs);
             *c = (self.blocks.len() - before) as u32;
             from += n;
         }

@@ -83,8 +83,15 @@ fn every_primitive_is_reachable() {
     want.sort();
     got.sort();
     assert_eq!(got, want);
-    let lanes: usize = bvh.blocks.iter().map(|b| b.lanes().count()).sum();
-    assert_eq!(lanes, shapes.len());
+    // A record per lane: the full ones are the primitives, and empty
+    // lanes are NaN.
+    assert_eq!(bvh.recs.len(), bvh.blocks.len() * 4);
+    let full = bvh.recs.iter().filter(|r| r.kind() != blocks::Kind::Empty).count();
+    assert_eq!((full, bvh.len()), (shapes.len(), shapes.len()));
+    for (i, r) in bvh.recs.iter().enumerate() {
+        let corner = bvh.blocks[i / 4].v[0][i % 4];
+        assert_eq!(r.kind() == blocks::Kind::Empty, corner.is_nan(), "lane {i}");
+    }
 }
 
 #[test]
@@ -176,9 +183,9 @@ fn sphere_blocks_match_the_scalar_test() {
             })
             .collect();
         let mut packed = Vec::new();
-        let mut recs = vec![Rec::default(); n];
+        let mut recs = Vec::new();
         let tagged: Vec<(u32, Shape)> = (0..n as u32).zip(shapes.iter().copied()).collect();
-        Block::pack(&tagged, 0, &mut packed, &mut recs);
+        Block::pack(&tagged, &mut packed, &mut recs);
         let o = match round % 4 {
             0 => match shapes[0] {
                 Shape::Sphere { center, radius, .. } => center + Vec3::X * radius,
@@ -488,4 +495,23 @@ fn wide_nodes_have_the_least_area() {
         let old = greedy(&bin, 0, width);
         assert!(made < old, "width {width}: {made} made, {old} by the largest child");
     }
+}
+
+/// A record keeps its kind and number side by side in 20 bytes; numbers
+/// past 2^30 - 1 are kept as that, and renumbering keeps the kind.
+#[test]
+fn records_keep_kind_and_number() {
+    use blocks::Kind;
+    assert_eq!(std::mem::size_of::<Rec>(), 20);
+    for kind in [Kind::Triangle, Kind::Sphere, Kind::Object, Kind::Empty] {
+        for id in [0, 1, 12345, (1 << 30) - 1] {
+            let mut r = Rec::new(kind, [7, 8, 9], 3, id);
+            assert_eq!((r.kind(), r.id(), r.normals, r.material), (kind, id, [7, 8, 9], 3));
+            r.set_id(id / 2);
+            assert_eq!((r.kind(), r.id()), (kind, id / 2));
+        }
+        assert_eq!(Rec::new(kind, [0; 3], 0, u32::MAX).id(), (1 << 30) - 1);
+        assert_eq!(Rec::new(kind, [0; 3], 0, u32::MAX).kind(), kind);
+    }
+    assert_eq!(Rec::default().kind(), Kind::Empty);
 }
