@@ -277,7 +277,8 @@ impl Bvh {
     }
 
     /// Builds over the `n` shapes that `shape(i)` makes (called from many
-    /// threads, twice per shape), so no unordered copy of them is kept.
+    /// threads, twice per shape, three times in a tree of objects), so no
+    /// unordered copy of them is kept.
     /// Triangles without area are left out (and counted in `degenerate`).
     pub fn build_from(n: usize, shape: impl Fn(usize) -> Shape + Sync) -> Bvh {
         Bvh::build_with(n, shape, Vec::new())
@@ -313,12 +314,18 @@ impl Bvh {
                 Some(BuildPrim::new(s.bounds(), i as u32))
             })
             .collect();
-        let unbounded: Vec<(u32, u32)> = (0..n)
-            .filter_map(|i| match shape(i) {
-                Shape::Object { index, bounds } if bounds.is_empty() => Some((i as u32, index)),
-                _ => None,
-            })
-            .collect();
+        // (Only objects can be unbounded.)
+        let unbounded: Vec<(u32, u32)> = if objects.is_empty() {
+            Vec::new()
+        } else {
+            (0..n)
+                .into_par_iter()
+                .filter_map(|i| match shape(i) {
+                    Shape::Object { index, bounds } if bounds.is_empty() => Some((i as u32, index)),
+                    _ => None,
+                })
+                .collect()
+        };
         let n = n - unbounded.len();
         let (n, degenerate) = (prims.len(), n - prims.len());
         let both = prims
@@ -329,8 +336,12 @@ impl Bvh {
         let mut ordered: Vec<(u32, Shape)> =
             prims.par_iter().map(|p| (p.index() as u32, shape(p.index()))).collect();
         drop(prims);
-        let mut blocks = Vec::with_capacity(n / 4 + 1);
-        let mut recs = Vec::with_capacity(n + n / 4 + 4);
+        // Each leaf's blocks (the shapes of a mesh are of one kind; others
+        // may need a few more).
+        let leaves = binary.iter().filter(|n| n.count > 0);
+        let want: usize = leaves.map(|n| n.count.div_ceil(4) as usize).sum();
+        let mut blocks = Vec::with_capacity(want);
+        let mut recs = Vec::with_capacity(4 * want + unbounded.len());
         let (nodes, depth) = match width {
             #[cfg(target_arch = "x86_64")]
             Width::Eight if let Some(avx) = Avx2::new() => {
