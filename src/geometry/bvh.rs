@@ -1035,6 +1035,11 @@ struct Plan {
 
 impl Plan {
     fn new(bin: &[Node], width: usize) -> Plan {
+        if width == 8 { Plan::of::<8>(bin) } else { Plan::of::<4>(bin) }
+    }
+
+    /// `new` for nodes `W` wide (a constant, so the loops unroll).
+    fn of<const W: usize>(bin: &[Node]) -> Plan {
         let mut cost = vec![[0.0; 8]; bin.len()];
         // Children follow their parent, so a reverse walk meets them first.
         for i in (0..bin.len()).rev() {
@@ -1042,12 +1047,19 @@ impl Plan {
             if node.count > 0 {
                 continue;
             }
-            let (l, r) = (i + 1, node.offset as usize);
-            let shared = |k| Plan::shared(&cost, l, r, k).0;
+            let (l, r) = (&cost[i + 1], &cost[node.offset as usize]);
+            // shared[k]: the least cost of both children in k slots (the
+            // value `Plan::shared` gives).
+            let mut shared = [f32::INFINITY; 9];
+            for (k, s) in shared.iter_mut().enumerate().take(W + 1).skip(2) {
+                for j in 1..k {
+                    *s = s.min(l[j - 1] + r[k - j - 1]);
+                }
+            }
             let mut c = [0.0; 8];
-            c[0] = node.bounds().surface_area() + shared(width);
-            for k in 2..=width {
-                c[k - 1] = shared(k).min(c[k - 2]);
+            c[0] = node.bounds().surface_area() + shared[W];
+            for k in 2..=W {
+                c[k - 1] = shared[k].min(c[k - 2]);
             }
             cost[i] = c;
         }
