@@ -1,5 +1,5 @@
 /* The Embree 3 baseline for scripts/bench: loads an OBJ (v and f lines),
- * builds a medium-quality BVH, and traces one primary ray per pixel of a
+ * builds a medium-quality BVH (five times, keeping the best time), and traces one primary ray per pixel of a
  * WxH image with the camera of tsd/bench/frame.tcl (looking at the centre of
  * the bounding box from direction (0.25, 0.2, 1), at the distance where the
  * bounding sphere fills a 45 degree field of view), with rtcIntersect1
@@ -60,19 +60,25 @@ int main(int argc, char **argv) {
     char cfg[64];
     snprintf(cfg, sizeof cfg, "threads=%d", threads);
     RTCDevice dev = rtcNewDevice(threads > 0 ? cfg : NULL);
-    double t0 = now();
-    RTCScene scene = rtcNewScene(dev);
-    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_MEDIUM);
-    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-    float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, nv);
-    memcpy(vb, v, nv * 12);
-    unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, nt);
-    memcpy(ib, t, nt * 12);
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(scene, g);
-    rtcReleaseGeometry(g);
-    rtcCommitScene(scene);
-    double build = now() - t0;
+    /* The best of five builds (ours is timed the same way). */
+    RTCScene scene = NULL;
+    double build = 1e30, t0;
+    for (int pass = 0; pass < 5; pass++) {
+        if (scene) rtcReleaseScene(scene);
+        t0 = now();
+        scene = rtcNewScene(dev);
+        rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_MEDIUM);
+        RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+        float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, nv);
+        memcpy(vb, v, nv * 12);
+        unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, nt);
+        memcpy(ib, t, nt * 12);
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(scene, g);
+        rtcReleaseGeometry(g);
+        rtcCommitScene(scene);
+        build = fmin(build, now() - t0);
+    }
 
     float c[3], d = 0, dir[3] = {0.25f, 0.2f, 1.0f};
     float dl = sqrtf(0.25f * 0.25f + 0.04f + 1.0f);
