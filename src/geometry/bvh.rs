@@ -1239,6 +1239,12 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): Bounds2, level: usize) -> S
     // leaves never exceed MAX_LEAF and the depth stays under 60 + 32.
     let halve =
         || if prims.len() <= MAX_LEAF { Split::Leaf } else { Split::Inner(prims.len() / 2, None) };
+    // A split costs at least the traversal step, and a leaf of up to
+    // `MAX_LEAF` primitives no more than that: such a set is a leaf,
+    // whatever its bins would say, so it is not binned.
+    if prims.len() <= MAX_LEAF && blocks_of(MAX_LEAF) <= TRAVERSAL_COST {
+        return Split::Leaf;
+    }
     if prims.len() <= 2 {
         return Split::Leaf;
     }
