@@ -1143,8 +1143,13 @@ impl<S: Slots> Widen<'_, S> {
             Shape::Sphere { .. } => 1,
             Shape::Object { .. } => 2,
         };
-        mine.sort_by_key(|s| kind(&s.1));
         let start = self.blocks.len() as u32;
+        // (A mesh's leaf: all triangles, nothing to sort.)
+        if mine.iter().all(|s| kind(&s.1) == 0) {
+            Block::pack(mine, self.blocks, self.recs);
+            return (start, self.blocks.len() as u32 - start);
+        }
+        mine.sort_by_key(|s| kind(&s.1));
         let mut counts = [0u32; 3];
         let mut from = 0;
         for (k, c) in counts.iter_mut().enumerate() {
