@@ -12,8 +12,8 @@ use super::shapes::{RayPre, intersect_sphere};
 use super::{Ray, Shape, Triangle};
 
 /// No primitive (in a list of lanes some of which are left out). A lane
-/// with no primitive has NaN coordinates, which no test accepts, and an
-/// `Empty` record.
+/// with no primitive has an `Empty` record and coordinates no test
+/// accepts: NaN, or in an object block an inverted box.
 pub(super) const NONE: u32 = u32::MAX;
 
 /// Four triangles (or spheres) of one leaf.
@@ -121,6 +121,16 @@ impl Block {
                             b.v[3 + axis][lane] = bounds.max[axis];
                         }
                         *rec = Rec::new(Kind::Object, [*index, 0, 0], u32::MAX, *id);
+                    }
+                }
+            }
+            // An object block's empty lanes: inverted boxes, which the slab
+            // test never enters (a NaN box may pass it).
+            if let Some((_, Shape::Object { .. })) = chunk.first() {
+                for lane in chunk.len()..4 {
+                    for axis in 0..3 {
+                        b.v[axis][lane] = f32::INFINITY;
+                        b.v[3 + axis][lane] = f32::NEG_INFINITY;
                     }
                 }
             }

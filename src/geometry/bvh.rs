@@ -432,13 +432,10 @@ impl Bvh {
     ) -> [u32; 4] {
         let boxes = [[b.v[0], b.v[1], b.v[2]], [b.v[3], b.v[4], b.v[5]]];
         let slabs = slabs.get_or_insert_with(|| Four.slabs(ray));
+        // (An empty lane's box is inverted: never entered.)
         let mask = Four.hit_boxes(&boxes, slabs, t_min, t_max);
-        // (An empty lane's NaN box may pass the slab test.)
-        std::array::from_fn(|l| {
-            let prim = self.prim(b, l);
-            let full = self.recs[prim as usize].kind() != Kind::Empty;
-            if mask & (1 << l) != 0 && full { prim } else { blocks::NONE }
-        })
+        let first = self.prim(b, 0);
+        std::array::from_fn(|l| if mask & (1 << l) != 0 { first + l as u32 } else { blocks::NONE })
     }
 
     /// The primitive in `lane` of block `b`, one of `self.blocks`.
