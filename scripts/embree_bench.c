@@ -1,8 +1,9 @@
 /* The Embree 3 baseline for scripts/bench: loads an OBJ (v and f lines),
- * builds a medium-quality BVH (five times, keeping the best time), and traces one primary ray per pixel of a
- * WxH image with the camera of tsd/bench/frame.tcl (looking at the centre of
- * the bounding box from direction (0.25, 0.2, 1), at the distance where the
- * bounding sphere fills a 45 degree field of view), with rtcIntersect1
+ * builds a medium-quality BVH (five times, keeping the best time), and
+ * traces one primary ray per pixel of a WxH image with the camera of
+ * tsd/bench/frame.tcl (looking at the centre of the bounding box from
+ * direction (0.25, 0.2, 1), at the distance where the bounding sphere
+ * fills a 45 degree field of view), with rtcIntersect1
  * (single rays), then one occlusion ray per hit towards the same light.
  * Prints: triangles build_ms primary_mrays shadow_mrays (tab separated).
  *

@@ -15,8 +15,9 @@
 //!   the BVH (a binned SAH binary tree collapsed by the least-area plan,
 //!   `bvh::Plan`, into 8-wide nodes where the CPU has AVX2, else 4-wide:
 //!   `bvh::wide`) whose leaves hold blocks of four primitives tested in
-//!   SIMD lanes (`blocks`: coordinates only; a record per lane), walked by single rays or by packets of camera rays
-//!   (`bvh::packet`), and objects, leaves of their own kind (`object`): placed
+//!   SIMD lanes (`blocks`: coordinates only; a record per lane), walked
+//!   by single rays or by packets of camera rays (`bvh::packet`), and
+//!   objects, leaves of their own kind (`object`): placed
 //!   analytic solids (`solid`, with `poly`'s root finder for the torus),
 //!   CSG by intervals (`csg`), blobs (`blob`), lazily generated fractals
 //!   (`fractal`), and trees of their own (instances, moving primitives).
