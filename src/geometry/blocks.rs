@@ -244,6 +244,12 @@ impl Block {
         let ba = b / a;
         let (lx, ly, lz) = (fx + dx * ba, fy + dy * ba, fz + dz * ba);
         let disc = a * (r2 - (lx * lx + ly * ly + lz * lz));
+        if !disc.cmpge(Vec4::ZERO).any() {
+            // No lane's line meets its sphere (most blocks a ray meets;
+            // a NaN lane, an empty one, meets nothing either): no roots
+            // to take.
+            return (0, Vec4::ZERO);
+        }
         let c = (fx * fx + fy * fy + fz * fz) - r2;
         let q = b + b.signum() * disc.sqrt();
         let (t0, t1) = (c / q, q / a);
