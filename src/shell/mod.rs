@@ -602,11 +602,18 @@ fn check_output(path: &std::path::Path) -> Result<(), String> {
 }
 
 /// A file written atomically: into a temporary name in the same directory,
-/// renamed over the final name by `commit`, so no reader ever sees half a
-/// file, whatever stops the program. Dropped without `commit`, it removes
+/// put in place of the final name by `commit`, so no reader ever sees half
+/// a file, whatever stops the program. Dropped without `commit`, it removes
 /// the temporary file. It is not synced to the disk (an `fsync` took 6 to
 /// 10 ms of a 1024x1024 frame's 80 here): a power cut may lose the latest
 /// pictures, as with other renderers, but never shows a program's crash.
+///
+/// On Linux a file that replaces an existing one swaps names with it in
+/// one step (`renameat2` with `RENAME_EXCHANGE`) and the old one is then
+/// removed: at every moment the name holds one whole picture, as with a
+/// rename over it, without the write-out that ext4 starts (and waits to
+/// submit) when a file is renamed over another (its `auto_da_alloc`: 1.7
+/// to 2.6 ms for a 3 MB picture here, a tenth of a quick re-render).
 pub struct AtomicFile {
     tmp: std::path::PathBuf,
     path: std::path::PathBuf,
@@ -658,10 +665,33 @@ impl AtomicFile {
         let w = self.file.take().expect("committed once");
         // Flushed and closed (no sync: see above).
         w.into_inner().map_err(|e| e.into_error())?;
-        std::fs::rename(&self.tmp, &self.path)?;
+        if !exchange(&self.tmp, &self.path) {
+            std::fs::rename(&self.tmp, &self.path)?;
+        }
         feedback::remove_temp(&self.tmp);
         Ok(())
     }
+}
+
+/// Swaps the names of `tmp` and an existing regular file `path`, then
+/// removes `tmp` (now the old file); false, with nothing changed, where
+/// `path` is no regular file or the file system cannot swap names.
+#[cfg(target_os = "linux")]
+fn exchange(tmp: &std::path::Path, path: &std::path::Path) -> bool {
+    use rustix::fs::{CWD, RenameFlags, renameat_with};
+    if !std::fs::symlink_metadata(path).is_ok_and(|m| m.is_file()) {
+        return false;
+    }
+    if renameat_with(CWD, tmp, CWD, path, RenameFlags::EXCHANGE).is_err() {
+        return false;
+    }
+    let _ = std::fs::remove_file(tmp);
+    true
+}
+
+#[cfg(not(target_os = "linux"))]
+fn exchange(_: &std::path::Path, _: &std::path::Path) -> bool {
+    false
 }
 
 /// `path` with symlinks in its last component followed (up to 40, as the
