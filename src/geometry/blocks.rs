@@ -8,7 +8,7 @@
 
 use glam::{Vec3, Vec4};
 
-use super::shapes::{RayPre, intersect_sphere};
+use super::shapes::{Cone, RayPre, intersect_sphere};
 use super::{Ray, Shape, Triangle};
 
 /// No primitive (in a list of lanes some of which are left out). A lane
@@ -16,12 +16,14 @@ use super::{Ray, Shape, Triangle};
 /// accepts: NaN, or in an object block an inverted box.
 pub(super) const NONE: u32 = u32::MAX;
 
-/// Four triangles (or spheres) of one leaf.
+/// Four triangles (or spheres, or cones) of one leaf.
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(16))]
 pub(super) struct Block {
     /// Triangles: x, y, z of vertex 0, then of vertex 1, then of vertex 2.
     /// Spheres: centre x, y, z and radius; the rest unused.
+    /// Cones: base x, y, z; unit axis x, y, z; length (negated when
+    /// capped); radius at the base; slope.
     pub v: [Vec4; 9],
 }
 
@@ -34,11 +36,12 @@ pub(super) enum Kind {
     Object = 2,
     /// Nothing: the padding of a leaf's last block.
     Empty = 3,
+    Cone = 4,
 }
 
 /// One lane's primitive: its vertex normals and material, its kind, and
 /// its number in the scene (the order it was added in, whatever the
-/// tree). 20 bytes: the kind takes the top two bits of the number.
+/// tree). 20 bytes: the kind takes the top three bits of the number.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Rec {
     pub normals: [u32; 3],
@@ -47,9 +50,9 @@ pub(super) struct Rec {
 }
 
 /// The bits of `Rec::tag` below the kind.
-const ID_BITS: u32 = 30;
+const ID_BITS: u32 = 29;
 /// The largest number a record keeps: the primitives past it (in a scene
-/// of over 2^30) all keep it, so their ties (`Closest`) go to the one the
+/// of over 2^29) all keep it, so their ties (`Closest`) go to the one the
 /// walk meets first, still the same for any thread count.
 const ID_MAX: u32 = (1 << ID_BITS) - 1;
 
@@ -71,6 +74,7 @@ impl Rec {
             0 => Kind::Triangle,
             1 => Kind::Sphere,
             2 => Kind::Object,
+            4 => Kind::Cone,
             _ => Kind::Empty,
         }
     }
@@ -115,6 +119,10 @@ impl Block {
                         b.v[3][lane] = *radius;
                         *rec = Rec::new(Kind::Sphere, [0; 3], *material, *id);
                     }
+                    Shape::Cone(c) => {
+                        b.set_cone(lane, c);
+                        *rec = Rec::new(Kind::Cone, [0; 3], c.material, *id);
+                    }
                     Shape::Object { index, bounds } => {
                         for axis in 0..3 {
                             b.v[axis][lane] = bounds.min[axis];
@@ -155,6 +163,15 @@ impl Block {
                 radius: v(3),
                 material: rec.material,
             },
+            Kind::Cone => Shape::Cone(Cone {
+                base: Vec3::new(v(0), v(1), v(2)),
+                axis: Vec3::new(v(3), v(4), v(5)),
+                h: v(6).abs(),
+                r0: v(7),
+                slope: v(8),
+                capped: v(6) < 0.0,
+                material: rec.material,
+            }),
             // (An empty lane: a triangle with NaN corners, never hit.)
             Kind::Triangle | Kind::Empty => Shape::Triangle(Triangle {
                 p: [0, 3, 6].map(|k| Vec3::new(v(k), v(k + 1), v(k + 2))),
@@ -260,6 +277,102 @@ impl Block {
         let in_hi = hi.cmpgt(t_min) & hi.cmplt(t_max);
         let ok = !disc.cmplt(Vec4::ZERO) & q.cmpne(Vec4::ZERO) & (in_lo | in_hi);
         (ok.bitmask(), Vec4::select(in_lo, lo, hi))
+    }
+
+    /// Cone `c` in `lane`.
+    fn set_cone(&mut self, lane: usize, c: &Cone) {
+        let h = if c.capped { -c.h } else { c.h };
+        let v = [c.base.x, c.base.y, c.base.z, c.axis.x, c.axis.y, c.axis.z, h, c.r0, c.slope];
+        for (k, x) in v.into_iter().enumerate() {
+            self.v[k][lane] = x;
+        }
+    }
+
+    /// A block of cone `c` alone, in lane 0 (the scalar test).
+    pub fn lone_cone(c: &Cone) -> Block {
+        let mut b = Block::EMPTY;
+        b.set_cone(0, c);
+        b
+    }
+
+    /// The cone test on all four lanes: the lanes hit within `(t_min,
+    /// t_max)` as a bit mask, and per lane the nearest crossing there and
+    /// its part (`Cone::SIDE`, `CAP0`, `CAP1`).
+    ///
+    /// The side is |x⊥|² = (r0 + k·s)² for the axial coordinate s in
+    /// [0, h] (k the slope), with x⊥ the part of the ray's point across
+    /// the axis: a quadratic a·t² + 2b·t + c in t. With u and p the parts
+    /// of the origin (from the base) and the direction across the axis,
+    /// and r the radius at the origin's s, its discriminant b² - a·c is
+    /// |r·p - k·(d·w)·u|² - |u × p|²: two squares of vectors, computed
+    /// as such, so it does not cancel for a ray from far away (for a
+    /// cylinder it is the sphere's form of Ray Tracing Gems, chapter 7);
+    /// the roots come in the form that keeps both accurate (and give the
+    /// one root of a line along the side of a cone). A line along a
+    /// cylinder's axis meets no side.
+    #[inline(always)]
+    pub fn cones(&self, ray: &Ray, t_min: f32, t_max: f32) -> (u32, Vec4, [u32; 4]) {
+        let v = &self.v;
+        let (d, o) = (ray.dir, ray.origin);
+        let (wx, wy, wz) = (v[3], v[4], v[5]);
+        let (r0, k) = (v[7], v[8]);
+        let dot = |x: Vec4, y: Vec4, z: Vec4| x * wx + y * wy + z * wz;
+        let (dx, dy, dz) = (Vec4::splat(d.x), Vec4::splat(d.y), Vec4::splat(d.z));
+        let ds = dot(dx, dy, dz);
+        let (px, py, pz) = (dx - wx * ds, dy - wy * ds, dz - wz * ds);
+        let (qx, qy, qz) =
+            (Vec4::splat(o.x) - v[0], Vec4::splat(o.y) - v[1], Vec4::splat(o.z) - v[2]);
+        let qs = dot(qx, qy, qz);
+        let (ux, uy, uz) = (qx - wx * qs, qy - wy * qs, qz - wz * qs);
+        let (rq, kds) = (r0 + k * qs, k * ds);
+        let (ex, ey, ez) = (rq * px - kds * ux, rq * py - kds * uy, rq * pz - kds * uz);
+        let (cx, cy, cz) = (uy * pz - uz * py, uz * px - ux * pz, ux * py - uy * px);
+        let disc = (ex * ex + ey * ey + ez * ez) - (cx * cx + cy * cy + cz * cz);
+        let sides = disc.cmpge(Vec4::ZERO);
+        let capped = v[6].cmplt(Vec4::ZERO);
+        if !(sides | capped).any() {
+            // No lane's line meets its side, and none has caps (a NaN
+            // lane, an empty one, meets nothing).
+            return (0, Vec4::ZERO, [0; 4]);
+        }
+        let a = px * px + py * py + pz * pz - kds * kds;
+        let b = ux * px + uy * py + uz * pz - kds * rq;
+        let c = ux * ux + uy * uy + uz * uz - rq * rq;
+        let q = -(b + disc.max(Vec4::ZERO).sqrt().copysign(b));
+        let (t0, t1) = (q / a, c / q);
+        let (t_min, t_max) = (Vec4::splat(t_min), Vec4::splat(t_max));
+        let mut best = Vec4::INFINITY;
+        let mut part = Vec4::ZERO;
+        let mut take = |t: Vec4, ok: glam::BVec4A, which: u32| {
+            let closer = ok & t.cmpgt(t_min) & t.cmplt(t_max) & t.cmplt(best);
+            best = Vec4::select(closer, t, best);
+            part = Vec4::select(closer, Vec4::splat(which as f32), part);
+        };
+        let h = v[6].abs();
+        for t in [t0, t1] {
+            let s = qs + ds * t;
+            take(t, sides & s.cmpge(Vec4::ZERO) & s.cmple(h), Cone::SIDE);
+        }
+        if capped.any() {
+            // The end disks, where the axial coordinate is 0 and h.
+            for (end, which) in [(Vec4::ZERO, Cone::CAP0), (h, Cone::CAP1)] {
+                let t = (end - qs) / ds;
+                let r = r0 + k * end;
+                let (fx, fy, fz) = (ux + px * t, uy + py * t, uz + pz * t);
+                let within = (fx * fx + fy * fy + fz * fz).cmple(r * r) & r.cmpgt(Vec4::ZERO);
+                take(t, capped & within, which);
+            }
+        }
+        let hit = best.cmplt(Vec4::INFINITY);
+        (hit.bitmask(), best, part.to_array().map(|p| p as u32))
+    }
+
+    /// The nearest crossing of the cone in `lane` within `(t_min,
+    /// t_max)`, and its part.
+    #[inline]
+    pub fn cone(&self, lane: usize, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
+        let (mask, t, part) = self.cones(ray, t_min, t_max);
+        (mask & (1 << lane) != 0).then(|| (t[lane], part[lane]))
     }
 
     /// The nearest hit on the sphere in `lane` within `(t_min, t_max)`.

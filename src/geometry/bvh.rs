@@ -230,16 +230,33 @@ struct Entry {
 }
 
 /// A leaf slot's `count`: its triangle blocks, its sphere blocks shifted
-/// by this many bits, and its object blocks by twice as many (a leaf has
-/// at most `MAX_LEAF` primitives).
+/// by this many bits, its cone blocks by twice as many and its object
+/// blocks by three times (a leaf has at most `MAX_LEAF` primitives).
 const SHIFT: u32 = 8;
 const MASK: u32 = (1 << SHIFT) - 1;
+
+/// A leaf's blocks, by kind.
+#[derive(Clone, Copy)]
+pub(super) struct Leaf<'a> {
+    tris: &'a [Block],
+    spheres: &'a [Block],
+    cones: &'a [Block],
+    objects: &'a [Block],
+}
+
+impl Leaf<'_> {
+    /// The number of blocks.
+    fn len(&self) -> usize {
+        self.tris.len() + self.spheres.len() + self.cones.len() + self.objects.len()
+    }
+}
 
 /// The kinds of leaf blocks a shadow ray tests one by one.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum BlockKind {
     Triangles,
     Spheres,
+    Cones,
 }
 
 /// The block of primitives that last blocked a shadow ray (for
@@ -470,6 +487,7 @@ impl Bvh {
         let local = match self.shape(hit.prim) {
             Shape::Triangle(t) => Local::Triangle(t),
             Shape::Sphere { center, radius, .. } => Local::Sphere { center, radius },
+            Shape::Cone(c) => Local::Solid { normal: c.normal(ray.at(hit.t), hit.sub) },
             Shape::Object { .. } => unreachable!("objects are handled above"),
         };
         Located {
@@ -501,7 +519,7 @@ impl Bvh {
     pub fn own_material(&self, prim: u32) -> Option<u32> {
         let rec = &self.recs[prim as usize];
         // (The unbounded primitives are objects too.)
-        matches!(rec.kind(), Kind::Triangle | Kind::Sphere).then_some(rec.material)
+        matches!(rec.kind(), Kind::Triangle | Kind::Sphere | Kind::Cone).then_some(rec.material)
     }
 
     /// The material of primitive `prim`.
@@ -567,12 +585,10 @@ impl Bvh {
             let mut consider = |hit, t_max: &mut f32| c.consider(&self.recs, hit, t_max);
             self.objects_hit(&self.unbounded, ray, t_min, &mut t_max, &mut consider);
         }
-        let steps =
-            self.traverse::<true>(ray, t_min, &mut t_max, |tris, spheres, objects, t_max| {
-                let leaf = (tris, spheres, objects);
-                self.leaf_closest(ray, (&mut pre, &mut slabs), leaf, t_min, t_max, &mut c);
-                false
-            });
+        let steps = self.traverse::<true>(ray, t_min, &mut t_max, |leaf, t_max| {
+            self.leaf_closest(ray, (&mut pre, &mut slabs), leaf, t_min, t_max, &mut c);
+            false
+        });
         (c.best, steps)
     }
 
@@ -585,7 +601,7 @@ impl Bvh {
         &self,
         ray: &Ray,
         (pre, slabs): (&mut Option<Pre4>, &mut Option<Slabs4>),
-        (tris, spheres, objects): (&[Block], &[Block], &[Block]),
+        Leaf { tris, spheres, cones, objects }: Leaf,
         t_min: f32,
         t_max: &mut f32,
         c: &mut Closest,
@@ -606,6 +622,15 @@ impl Bvh {
                 c.consider(&self.recs, hit, t_max);
             }
         }
+        for b in cones {
+            let (mut mask, t, part) = b.cones(ray, t_min, *t_max);
+            while mask != 0 {
+                let l = mask.trailing_zeros() as usize & 3;
+                mask &= mask - 1;
+                let hit = Hit { t: t[l], prim: self.prim(b, l), uv: [0.0; 2], sub: part[l] };
+                c.consider(&self.recs, hit, t_max);
+            }
+        }
         for b in objects {
             let prims = self.entered(b, ray, slabs, t_min, *t_max);
             let mut consider = |hit, t_max: &mut f32| c.consider(&self.recs, hit, t_max);
@@ -613,9 +638,9 @@ impl Bvh {
         }
     }
 
-    /// Calls `each(t, prim)` for every crossing of a triangle or sphere
-    /// along the ray's whole line, in no order (objects are not looked
-    /// into): what CSG needs of a closed mesh.
+    /// Calls `each(t, prim)` for every crossing of a triangle, sphere or
+    /// cone along the ray's whole line, in no order (objects are not
+    /// looked into): what CSG needs of a closed mesh.
     pub fn crossings(&self, ray: &Ray, each: &mut dyn FnMut(f32, u32)) {
         // The walk's slab test is made robust for t ≥ 0 only: start the ray
         // before the tree (where its line enters the bounds) and count
@@ -632,8 +657,8 @@ impl Bvh {
         let start = Ray { origin: ray.at(back), ..*ray };
         let pre = Pre4::new(&start, &RayPre::new(start.dir));
         let mut t_end = f32::INFINITY;
-        self.traverse::<false>(&start, 0.0, &mut t_end, |tris, spheres, _, t_max| {
-            for b in tris {
+        self.traverse::<false>(&start, 0.0, &mut t_end, |leaf, t_max| {
+            for b in leaf.tris {
                 let (mut mask, t, _) = b.triangles(&pre, 0.0, *t_max);
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize;
@@ -641,13 +666,22 @@ impl Bvh {
                     each(t[l] + back, self.prim(b, l));
                 }
             }
-            for b in spheres {
+            for b in leaf.spheres {
                 for l in 0..4 {
                     let (mut from, prim) = (0.0, self.prim(b, l));
                     if self.recs[prim as usize].kind() == Kind::Empty {
                         continue;
                     }
                     while let Some(t) = b.sphere(l, &start, from, *t_max) {
+                        each(t + back, prim);
+                        from = t;
+                    }
+                }
+            }
+            for b in leaf.cones {
+                for l in 0..4 {
+                    let (mut from, prim) = (0.0, self.prim(b, l));
+                    while let Some((t, _)) = b.cone(l, &start, from, *t_max) {
                         each(t + back, prim);
                         from = t;
                     }
@@ -746,8 +780,13 @@ impl Bvh {
         }
         let mut t_end = t_max;
         let mut slabs = None;
-        self.traverse::<false>(ray, t_min, &mut t_end, |tris, spheres, objects, t_max| {
-            for (kind, blocks) in [(BlockKind::Triangles, tris), (BlockKind::Spheres, spheres)] {
+        self.traverse::<false>(ray, t_min, &mut t_end, |leaf, t_max| {
+            let kinds = [
+                (BlockKind::Triangles, leaf.tris),
+                (BlockKind::Spheres, leaf.spheres),
+                (BlockKind::Cones, leaf.cones),
+            ];
+            for (kind, blocks) in kinds {
                 for b in blocks {
                     let mut each = |hit| {
                         through *= pass(hit);
@@ -759,7 +798,7 @@ impl Bvh {
                     }
                 }
             }
-            for b in objects {
+            for b in leaf.objects {
                 let prims = self.entered(b, ray, &mut slabs, t_min, *t_max);
                 through *= self.objects_through(&prims, ray, (t_min, *t_max), &mut pass);
                 if through == Vec3::ZERO {
@@ -772,8 +811,8 @@ impl Bvh {
     }
 
     /// Calls `each` for each hit of block `b` (of `kind`) in `(t_min,
-    /// t_max)`: triangles in lane order, spheres lane by lane and root by
-    /// root, as a shadow walk meets them; stops, and returns true, as soon
+    /// t_max)`: triangles in lane order, spheres and cones lane by lane
+    /// and root by root, as a shadow walk meets them; stops, and returns true, as soon
     /// as `each` returns true.
     #[inline(always)]
     fn block_hits(
@@ -810,6 +849,22 @@ impl Bvh {
                 }
                 false
             }
+            BlockKind::Cones => {
+                let (mut mask, _, _) = b.cones(ray, t_min, t_max);
+                while mask != 0 {
+                    let l = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let mut from = t_min;
+                    while let Some((t, _)) = b.cone(l, ray, from, t_max) {
+                        let material = self.recs[self.prim(b, l) as usize].material;
+                        if each(ShadowHit::new(material, t)) {
+                            return true;
+                        }
+                        from = t;
+                    }
+                }
+                false
+            }
         }
     }
 
@@ -828,7 +883,7 @@ impl Bvh {
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        leaf: impl FnMut(&[Block], &[Block], &[Block], &mut f32) -> bool,
+        leaf: impl FnMut(Leaf, &mut f32) -> bool,
     ) -> u32 {
         // A non-finite ray is never walked: its slab tests would be NaN.
         if self.nodes.len() == 0 || !(ray.origin.is_finite() && ray.dir.is_finite()) {
@@ -858,17 +913,19 @@ impl Bvh {
         steps
     }
 
-    /// A leaf slot's blocks: its triangles, spheres and objects.
+    /// A leaf slot's blocks: its triangles, spheres, cones and objects.
     #[inline(always)]
-    fn leaf_blocks(&self, first: u32, count: u32) -> (&[Block], &[Block], &[Block]) {
+    fn leaf_blocks(&self, first: u32, count: u32) -> Leaf<'_> {
         let first = first as usize;
         let tris = (count & MASK) as usize;
         let spheres = (count >> SHIFT & MASK) as usize;
-        let objects = (count >> (2 * SHIFT)) as usize;
-        let blocks = &self.blocks[first..first + tris + spheres + objects];
+        let cones = (count >> (2 * SHIFT) & MASK) as usize;
+        let objects = (count >> (3 * SHIFT)) as usize;
+        let blocks = &self.blocks[first..first + tris + spheres + cones + objects];
         let (tris, rest) = blocks.split_at(tris);
-        let (spheres, objects) = rest.split_at(spheres);
-        (tris, spheres, objects)
+        let (spheres, rest) = rest.split_at(spheres);
+        let (cones, objects) = rest.split_at(cones);
+        Leaf { tris, spheres, cones, objects }
     }
 
     #[inline(always)]
@@ -881,7 +938,7 @@ impl Bvh {
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        mut leaf: impl FnMut(&[Block], &[Block], &[Block], &mut f32) -> bool,
+        mut leaf: impl FnMut(Leaf, &mut f32) -> bool,
     ) -> u32 {
         let slabs = kernel.slabs(ray);
         // A walk never holds more than N - 1 entries a level; more would
@@ -892,9 +949,9 @@ impl Bvh {
         loop {
             steps += 1;
             if current.count > 0 {
-                let (tris, spheres, objects) = self.leaf_blocks(current.child, current.count);
-                steps += (tris.len() + spheres.len() + objects.len()) as u32;
-                if leaf(tris, spheres, objects, t_max) {
+                let blocks = self.leaf_blocks(current.child, current.count);
+                steps += blocks.len() as u32;
+                if leaf(blocks, t_max) {
                     return steps;
                 }
             } else {
@@ -1134,11 +1191,12 @@ impl<S: Slots> Widen<'_, S> {
     fn leaf(&mut self, n: &Node) -> (u32, u32) {
         let (first, count) = (n.offset as usize, n.count as usize);
         let mine = &mut self.shapes[first..first + count];
-        // Stable: triangles first, then spheres, then objects.
+        // Stable: triangles first, then spheres, cones, objects.
         let kind = |s: &Shape| match s {
             Shape::Triangle(_) => 0,
             Shape::Sphere { .. } => 1,
-            Shape::Object { .. } => 2,
+            Shape::Cone(_) => 2,
+            Shape::Object { .. } => 3,
         };
         let start = self.blocks.len() as u32;
         // (A mesh's leaf: all triangles, nothing to sort.)
@@ -1147,7 +1205,7 @@ impl<S: Slots> Widen<'_, S> {
             return (start, self.blocks.len() as u32 - start);
         }
         mine.sort_by_key(|s| kind(&s.1));
-        let mut counts = [0u32; 3];
+        let mut counts = [0u32; 4];
         let mut from = 0;
         for (k, c) in counts.iter_mut().enumerate() {
             let n = mine[from..].iter().take_while(|s| kind(&s.1) == k).count();
@@ -1157,7 +1215,8 @@ impl<S: Slots> Widen<'_, S> {
             *c = (self.blocks.len() - before) as u32;
             from += n;
         }
-        (start, counts[0] | counts[1] << SHIFT | counts[2] << (2 * SHIFT))
+        let [tris, spheres, cones, objects] = counts;
+        (start, tris | spheres << SHIFT | cones << (2 * SHIFT) | objects << (3 * SHIFT))
     }
 
     /// Emits subtree `i` (interior) as a wide node; returns its index.

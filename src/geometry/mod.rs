@@ -25,7 +25,7 @@ pub use fractal::{Flake, MAX_DEPTH as FRACTAL_MAX_DEPTH, Menger};
 pub use object::{Kind, Local, Located, Object, Place, ShadowHit};
 pub use ray::Ray;
 pub use shapes::{
-    Hit, RayPre, Shape, Triangle, intersect_brute, intersect_sphere, intersect_triangle,
-    intersect_triangle_f64,
+    Cone, Hit, RayPre, Shape, Triangle, intersect_brute, intersect_cone, intersect_sphere,
+    intersect_triangle, intersect_triangle_f64,
 };
 pub use solid::{Crossing, Crossings, Solid};

@@ -1,6 +1,7 @@
-//! Spheres and triangles: intersection tests and the `Shape` the BVH holds.
-//! Triangles use the watertight test of Woop, Benthin and Wald (2013), so a
-//! ray never slips through the shared edge of two triangles of a mesh.
+//! Spheres, triangles and cones: intersection tests and the `Shape` the BVH
+//! holds. Triangles use the watertight test of Woop, Benthin and Wald
+//! (2013), so a ray never slips through the shared edge of two triangles of
+//! a mesh.
 
 use glam::{DVec3, Vec3};
 
@@ -32,6 +33,62 @@ impl Triangle {
     }
 }
 
+/// A cone or cylinder: from `base` (radius `r0`) along the unit vector
+/// `axis` for `h`, its radius growing by `slope` per unit of length (0: a
+/// cylinder), open or `capped` at both ends.
+/// Tested in the BVH's leaves four at once like spheres (the general
+/// solid, `Solid::Cone`, is what CSG and skewed placements use).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cone {
+    pub base: Vec3,
+    pub axis: Vec3,
+    pub h: f32,
+    pub r0: f32,
+    pub slope: f32,
+    pub capped: bool,
+    pub material: u32,
+}
+
+impl Cone {
+    /// The parts `intersect_cone` names: the side and the two caps (as
+    /// `Solid::Cone` numbers them).
+    pub const SIDE: u32 = 0;
+    pub const CAP0: u32 = 1;
+    pub const CAP1: u32 = 2;
+
+    /// The radius at the top.
+    pub fn r1(&self) -> f32 {
+        self.r0 + self.slope * self.h
+    }
+
+    /// The bounds of its two end disks (a little widened: the test rounds).
+    pub fn bounds(&self) -> Aabb {
+        let top = self.base + self.axis * self.h;
+        // A disk of radius r normal to the axis reaches r·sqrt(1 - w_i²)
+        // along axis i.
+        let reach = (Vec3::ONE - self.axis * self.axis).max(Vec3::ZERO).powf(0.5);
+        let (d0, d1) = (reach * self.r0, reach * self.r1());
+        let lo = (self.base - d0).min(top - d1);
+        let hi = (self.base + d0).max(top + d1);
+        let pad = Vec3::splat(lo.abs().max(hi.abs()).max_element() * 4.0 * f32::EPSILON);
+        Aabb { min: (lo - pad).into(), max: (hi + pad).into() }
+    }
+
+    /// The outward normal (not unit length) at `p` on `part`.
+    pub fn normal(&self, p: Vec3, part: u32) -> Vec3 {
+        match part {
+            Cone::CAP0 => -self.axis,
+            Cone::CAP1 => self.axis,
+            _ => {
+                // Out from the axis, tilted by the slope (r1 - r0) / h.
+                let x = p - self.base;
+                let radial = (x - self.axis * x.dot(self.axis)).normalize_or_zero();
+                radial - self.axis * self.slope
+            }
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug)]
 pub enum Shape {
     Triangle(Triangle),
@@ -40,6 +97,7 @@ pub enum Shape {
         radius: f32,
         material: u32,
     },
+    Cone(Cone),
     /// Entry `index` of the tree's objects, with its bounds (empty: it
     /// has none, as a plane, and is tested by every ray).
     Object {
@@ -56,6 +114,7 @@ impl Shape {
                 let r = Vec3::splat(*radius);
                 Aabb { min: (*center - r).into(), max: (*center + r).into() }
             }
+            Shape::Cone(c) => c.bounds(),
             Shape::Object { bounds, .. } => *bounds,
         }
     }
@@ -67,6 +126,7 @@ impl Shape {
             Shape::Sphere { center, radius, material } => {
                 Shape::Sphere { center: center + by, radius, material }
             }
+            Shape::Cone(c) => Shape::Cone(Cone { base: c.base + by, ..c }),
             o @ Shape::Object { .. } => o,
         }
     }
@@ -75,6 +135,7 @@ impl Shape {
         match self {
             Shape::Triangle(t) => t.material,
             Shape::Sphere { material, .. } => *material,
+            Shape::Cone(c) => c.material,
             Shape::Object { .. } => u32::MAX,
         }
     }
@@ -92,6 +153,7 @@ impl Shape {
             Shape::Sphere { center, radius, .. } => {
                 intersect_sphere(ray, *center, *radius, t_min, t_max).map(|t| (t, [0.0, 0.0]))
             }
+            Shape::Cone(c) => intersect_cone(ray, c, t_min, t_max).map(|(t, _)| (t, [0.0, 0.0])),
             // Objects live in their tree's table: only the tree tests them.
             Shape::Object { .. } => None,
         }
@@ -190,6 +252,15 @@ pub fn intersect_sphere(
     } else {
         None
     }
+}
+
+/// Ray-cone: the nearest crossing in `(t_min, t_max)` and its part
+/// (`Cone::SIDE`, `CAP0`, `CAP1`). The four-wide test of the BVH's cone
+/// blocks on one lane, so the two agree to the bit.
+pub fn intersect_cone(ray: &Ray, cone: &Cone, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
+    let b = super::blocks::Block::lone_cone(cone);
+    let (mask, t, part) = b.cones(ray, t_min, t_max);
+    (mask & 1 != 0).then_some((t[0], part[0]))
 }
 
 /// Watertight ray-triangle test; returns `t` and the barycentric weights

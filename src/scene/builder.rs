@@ -11,7 +11,7 @@ use super::material::{Bump, Highlight, Material};
 use super::objects::{BlobFrame, CsgFrame, CsgLeafDef, Group, ObjDef, Saved};
 use super::sampling::Sampling;
 use super::texture::Texture;
-use crate::geometry::{Shape, Triangle};
+use crate::geometry::{Cone, Shape, Triangle};
 
 /// The largest image, in pixels (64 Mpixel: 768 MiB of f32 RGB, and 192 MiB
 /// more in bytes while the file is written).
@@ -104,6 +104,16 @@ pub enum Prim {
     Sphere {
         center: DVec3,
         radius: f64,
+        material: u32,
+    },
+    /// From `a` (radius `r0`) to `b` (radius `r1`): placed by a
+    /// similarity, so still a cone (`Builder::cone`).
+    Cone {
+        a: DVec3,
+        b: DVec3,
+        r0: f64,
+        r1: f64,
+        capped: bool,
         material: u32,
     },
 }
@@ -257,7 +267,7 @@ fn finite(v: Vec3) -> Result<Vec3, SceneError> {
 }
 
 /// A position: finite, and within single precision's range.
-fn position(p: DVec3) -> Result<DVec3, SceneError> {
+pub(crate) fn position(p: DVec3) -> Result<DVec3, SceneError> {
     if p.is_finite() && p.abs().max_element() <= f32::MAX as f64 {
         Ok(p)
     } else {
@@ -554,6 +564,18 @@ impl Builder {
             Prim::Sphere { center, radius, material } => {
                 Shape::Sphere { center: rel(center), radius: radius as f32, material }
             }
+            Prim::Cone { a, b, r0, r1, capped, material } => {
+                let (axis, h) = ((b - a).normalize(), (b - a).length());
+                Shape::Cone(Cone {
+                    base: rel(a),
+                    axis: axis.as_vec3(),
+                    h: h as f32,
+                    r0: r0 as f32,
+                    slope: ((r1 - r0) / h) as f32,
+                    capped,
+                    material,
+                })
+            }
         }
     }
 
@@ -572,6 +594,10 @@ impl Builder {
                 }),
                 Prim::Sphere { center, radius, .. } => {
                     grow(center - DVec3::splat(radius), center + DVec3::splat(radius))
+                }
+                Prim::Cone { a, b, r0, r1, .. } => {
+                    let r = DVec3::splat(r0.max(r1));
+                    grow(a.min(b) - r, a.max(b) + r)
                 }
             }
         }

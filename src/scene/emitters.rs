@@ -96,7 +96,8 @@ impl LightSet {
         let prim_material = |p: &Prim| match *p {
             Prim::Tri { material, .. }
             | Prim::MeshTri { material, .. }
-            | Prim::Sphere { material, .. } => material,
+            | Prim::Sphere { material, .. }
+            | Prim::Cone { material, .. } => material,
         };
         for (p, _) in b.prims.iter().zip(&still).filter(|(_, s)| !**s) {
             unsample(prim_material(p));

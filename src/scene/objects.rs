@@ -10,7 +10,7 @@
 
 use glam::{DAffine3, DMat3, DVec3, Vec3};
 
-use super::builder::{Builder, Prim, SceneError};
+use super::builder::{Builder, Prim, SceneError, position};
 use crate::geometry::{BlobComponent, CsgOp, Solid};
 
 /// The deepest `push` nesting, CSG nesting and group nesting accepted.
@@ -340,6 +340,28 @@ impl Builder {
             return Err(invalid(format!(
                 "a cone's radii must be 0 or more, and not both 0, got {r0} and {r1}"
             )));
+        }
+        // Placed by a similarity (or not at all), it stays a cone: one
+        // the BVH tests natively, four at once.
+        let native = match self.placed() {
+            _ if self.in_csg() => None,
+            None => Some((a, b, 1.0)),
+            Some(m) => {
+                similarity(&m.matrix3).map(|s| (m.transform_point3(a), m.transform_point3(b), s))
+            }
+        };
+        if let Some((a, b, s)) = native
+            && let (Ok(a), Ok(b)) = (position(a), position(b))
+        {
+            // (One single precision cannot hold goes the general way.)
+            let (r0, r1) = (r0 * s, r1 * s);
+            let h = (b - a).length();
+            if h.is_finite() && (h as f32) > 0.0 && r0.max(r1) <= f32::MAX as f64 {
+                crate::mem::room(&self.prims, 1)?;
+                let material = self.material_index()?;
+                self.prims.push(Prim::Cone { a, b, r0, r1, capped, material });
+                return Ok(());
+            }
         }
         let (u, v) = basis(axis / len);
         let frame = DAffine3::from_cols(u, v, axis, a);

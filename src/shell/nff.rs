@@ -214,8 +214,9 @@ mod tests {
         let c = load(&mut b, "t.nff", src.as_bytes()).unwrap();
         assert_eq!(c, Counts { spheres: 1, cones: 1, polygons: 1, patches: 1, lights: 2 });
         assert_eq!((b.width, b.height), (64, 48));
-        assert_eq!(b.prims.len(), 1 + 2 + 1);
-        assert_eq!(b.objects.len(), 1);
+        // A sphere, two triangles, a patch and a cone (native, not an object).
+        assert_eq!(b.prims.len(), 1 + 2 + 1 + 1);
+        assert_eq!(b.objects.len(), 0);
         assert_eq!(b.lights.len(), 2);
         let bad = load(&mut Builder::default(), "t.nff", "s 0 0 0 1\ns 0 0 x 1\n".as_bytes());
         assert_eq!(bad.unwrap_err(), "t.nff:2: expected a position but got \"x\"");

@@ -16,9 +16,7 @@ use super::super::aabb::ROBUST;
 #[cfg(target_arch = "x86_64")]
 use super::Avx2;
 use super::wide::{Frustum, Kernel, Slots, inv, near_planes};
-use super::{
-    Aabb, Block, Bvh, Closest, Distance, Four, Hit, Nodes, Pre4, Ray, Slabs4, push_sorted,
-};
+use super::{Aabb, Bvh, Closest, Distance, Four, Hit, Leaf, Nodes, Pre4, Ray, Slabs4, push_sorted};
 
 /// The most rays in a packet: a block of 8×8 pixels.
 pub const PACKET: usize = 64;
@@ -123,9 +121,6 @@ thread_local! {
     static SCRATCH: Cell<Option<Box<Scratch>>> = const { Cell::new(None) };
 }
 
-/// A leaf's blocks: triangles, spheres, objects.
-type Leaf<'a> = (&'a [Block], &'a [Block], &'a [Block]);
-
 impl Bvh {
     /// `intersect` for each ray of `rays` (at most `PACKET`), into `out`:
     /// the same hits, found together when the rays share an origin and
@@ -167,7 +162,7 @@ impl Bvh {
         let leaf = |i: usize, leaf: Leaf, t_max: &mut f32| {
             let i = i & (PACKET - 1);
             used |= 1 << i;
-            steps[i] += 1 + (leaf.0.len() + leaf.1.len() + leaf.2.len()) as u32;
+            steps[i] += 1 + leaf.len() as u32;
             self.leaf_closest(
                 &rays[i],
                 (&mut pre[i], &mut slabs[i]),

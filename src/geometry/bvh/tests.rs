@@ -1,5 +1,5 @@
 use super::*;
-use crate::geometry::Triangle;
+use crate::geometry::{Cone, Solid, Triangle};
 
 fn lcg(seed: &mut u64) -> f32 {
     *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -12,6 +12,8 @@ fn random_scene(n: usize, seed: &mut u64) -> Vec<Shape> {
             let c = Vec3::new(lcg(seed), lcg(seed), lcg(seed)) * 10.0;
             if i % 5 == 0 {
                 Shape::Sphere { center: c, radius: 0.05 + lcg(seed) * 0.3, material: 0 }
+            } else if i % 5 == 1 {
+                random_cone(c, i % 2 == 0, seed)
             } else {
                 let d = |s: &mut u64| Vec3::new(lcg(s), lcg(s), lcg(s)) - 0.5;
                 Shape::Triangle(Triangle {
@@ -22,6 +24,15 @@ fn random_scene(n: usize, seed: &mut u64) -> Vec<Shape> {
             }
         })
         .collect()
+}
+
+/// A cone (or, one time in three, a cylinder) at `c` in a random
+/// direction.
+fn random_cone(c: Vec3, capped: bool, seed: &mut u64) -> Shape {
+    let axis = (Vec3::new(lcg(seed), lcg(seed), lcg(seed)) - 0.5).normalize();
+    let (h, r0) = (0.2 + lcg(seed), 0.02 + lcg(seed) * 0.2);
+    let r1 = if lcg(seed) < 0.33 { r0 } else { lcg(seed) * 0.3 };
+    Shape::Cone(Cone { base: c, axis, h, r0, slope: (r1 - r0) / h, capped, material: 0 })
 }
 
 /// The closest hit's distance by testing every shape (with the same rule
@@ -67,6 +78,11 @@ fn every_primitive_is_reachable() {
             Shape::Object { .. } => unreachable!(),
             Shape::Triangle(t) => (t.p[0] + t.p[1] + t.p[2]) / 3.0,
             Shape::Sphere { center, .. } => *center,
+            // A point of the side, halfway up.
+            Shape::Cone(k) => {
+                let mid = k.base + k.axis * (k.h / 2.0);
+                mid + k.axis.any_orthonormal_vector() * (k.r0 + k.slope * k.h / 2.0)
+            }
         };
         let o = c + Vec3::new(0.0, 0.0, 20.0);
         let ray = Ray::new(o, target - o);
@@ -204,6 +220,120 @@ fn sphere_blocks_match_the_scalar_test() {
         }
         assert_eq!(mask >> n, 0, "an empty lane was hit");
     }
+}
+
+/// The nearest crossing of cone `k` past `t_min` and its part, solved in
+/// double precision from the same numbers: the reference for the blocks.
+fn cone_f64(k: &Cone, ray: &Ray, t_min: f32) -> Option<(f64, u32)> {
+    let (w, q, d) = (k.axis.as_dvec3(), (ray.origin - k.base).as_dvec3(), ray.dir.as_dvec3());
+    let (h, r0, slope) = (k.h as f64, k.r0 as f64, k.slope as f64);
+    let (qs, ds) = (q.dot(w), d.dot(w));
+    let (u, p) = (q - w * qs, d - w * ds);
+    let rq = r0 + slope * qs;
+    let a = p.dot(p) - (slope * ds).powi(2);
+    let b = u.dot(p) - slope * ds * rq;
+    let c = u.dot(u) - rq * rq;
+    let disc = b * b - a * c;
+    let mut found: Vec<(f64, u32)> = Vec::new();
+    if disc >= 0.0 && a != 0.0 {
+        for t in [(-b - disc.sqrt()) / a, (-b + disc.sqrt()) / a] {
+            let s = qs + ds * t;
+            if (0.0..=h).contains(&s) {
+                found.push((t, Cone::SIDE));
+            }
+        }
+    }
+    if k.capped {
+        for (end, part) in [(0.0, Cone::CAP0), (h, Cone::CAP1)] {
+            let t = (end - qs) / ds;
+            let r = r0 + slope * end;
+            if (u + p * t).length_squared() <= r * r {
+                found.push((t, part));
+            }
+        }
+    }
+    found.into_iter().filter(|&(t, _)| t > t_min as f64).min_by(|x, y| x.0.total_cmp(&y.0))
+}
+
+/// Cone blocks against a double-precision solution of the same cone: the
+/// same crossings, to a few millionths of the cone's size, for rays from
+/// outside, from the surface and along the axis, with caps and without;
+/// the four lanes give the scalar test's answer to the bit; and the
+/// normal is the general solid's (`Solid::Cone` placed by an object).
+#[test]
+fn cone_blocks_agree_with_double_precision() {
+    use crate::geometry::{Kind as ObjKind, Local, Object, Place, intersect_cone};
+    let mut seed = 23;
+    let (mut hits, mut misses, mut grazing) = (0, 0, 0);
+    for round in 0..4000 {
+        let lanes: Vec<Shape> = (0..4)
+            .map(|l| {
+                let c = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 4.0;
+                random_cone(c, (round + l) % 2 == 0, &mut seed)
+            })
+            .collect();
+        let mut packed = Vec::new();
+        let mut recs = Vec::new();
+        let tagged: Vec<(u32, Shape)> = (0..4).zip(lanes.iter().copied()).collect();
+        Block::pack(&tagged, &mut packed, &mut recs);
+        let Shape::Cone(k) = lanes[0] else { unreachable!() };
+        let u = k.axis.any_orthonormal_vector();
+        let v = k.axis.cross(u);
+        let target = k.base + k.axis * (lcg(&mut seed) * 1.2 - 0.1) * k.h;
+        let target = target + u * (lcg(&mut seed) - 0.5) * 3.0 * k.r0.max(k.r1());
+        let (o, t_min) = match round % 4 {
+            // From the side surface (a shadow ray's start).
+            0 => {
+                let s = lcg(&mut seed) * k.h;
+                (k.base + k.axis * s + v * (k.r0 + k.slope * s), 1e-4)
+            }
+            // Along the axis.
+            1 => (k.base - k.axis * (1.0 + lcg(&mut seed) * 5.0), 0.0),
+            _ => (Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 20.0 - 8.0, 0.0),
+        };
+        let d = if round % 4 == 1 { k.axis * 2.0 } else { target - o };
+        let ray = Ray::new(o, d);
+        let want = cone_f64(&k, &ray, t_min);
+        let got = intersect_cone(&ray, &k, t_min, f32::INFINITY);
+        let (mask, t, part) = packed[0].cones(&ray, t_min, f32::INFINITY);
+        assert_eq!((mask & 1 != 0).then(|| (t[0], part[0])), got, "round {round}: lanes");
+        let size = (k.h + k.r0.max(k.r1()) + (o - k.base).length()) / d.length();
+        match (want, got) {
+            (Some((tw, pw)), Some((tg, pg))) => {
+                let err = (tw - tg as f64).abs() as f32;
+                assert!(err <= 1e-5 * size, "round {round}: t {tw} vs {tg}");
+                assert_eq!(pw, pg, "round {round}: part");
+                // The general solid's normal there.
+                let to_world = glam::Affine3A::from_cols(
+                    u.into(),
+                    v.into(),
+                    (k.axis * k.h).into(),
+                    k.base.into(),
+                );
+                let solid = Object {
+                    place: Place { to_local: Some(to_world.inverse()), velocity: Vec3::ZERO },
+                    kind: ObjKind::Solid {
+                        solid: Solid::Cone { r0: k.r0, r1: k.r1(), capped: k.capped },
+                        material: 0,
+                    },
+                };
+                let at = solid.locate(&ray, tg, [0.0; 2], pg);
+                let Local::Solid { normal } = at.local else { unreachable!() };
+                let m = at.to_local.unwrap();
+                let nw = Vec3::from(m.matrix3.transpose() * glam::Vec3A::from(normal)).normalize();
+                let n = k.normal(ray.at(tg), pg).normalize();
+                assert!(n.dot(nw) > 0.999, "round {round}: normal {n} vs {nw}");
+                hits += 1;
+            }
+            (None, None) => misses += 1,
+            // A grazing ray may fall either way.
+            (w, g) => {
+                grazing += 1;
+                assert!(grazing < 20, "round {round}: double {w:?}, block {g:?}");
+            }
+        }
+    }
+    assert!(hits > 1000 && misses > 500, "{hits} hits, {misses} misses");
 }
 
 #[test]
@@ -498,19 +628,19 @@ fn wide_nodes_have_the_least_area() {
 }
 
 /// A record keeps its kind and number side by side in 20 bytes; numbers
-/// past 2^30 - 1 are kept as that, and renumbering keeps the kind.
+/// past 2^29 - 1 are kept as that, and renumbering keeps the kind.
 #[test]
 fn records_keep_kind_and_number() {
     use blocks::Kind;
     assert_eq!(std::mem::size_of::<Rec>(), 20);
-    for kind in [Kind::Triangle, Kind::Sphere, Kind::Object, Kind::Empty] {
-        for id in [0, 1, 12345, (1 << 30) - 1] {
+    for kind in [Kind::Triangle, Kind::Sphere, Kind::Object, Kind::Empty, Kind::Cone] {
+        for id in [0, 1, 12345, (1 << 29) - 1] {
             let mut r = Rec::new(kind, [7, 8, 9], 3, id);
             assert_eq!((r.kind(), r.id(), r.normals, r.material), (kind, id, [7, 8, 9], 3));
             r.set_id(id / 2);
             assert_eq!((r.kind(), r.id()), (kind, id / 2));
         }
-        assert_eq!(Rec::new(kind, [0; 3], 0, u32::MAX).id(), (1 << 30) - 1);
+        assert_eq!(Rec::new(kind, [0; 3], 0, u32::MAX).id(), (1 << 29) - 1);
         assert_eq!(Rec::new(kind, [0; 3], 0, u32::MAX).kind(), kind);
     }
     assert_eq!(Rec::default().kind(), Kind::Empty);
