@@ -235,19 +235,54 @@ struct Entry {
 const SHIFT: u32 = 8;
 const MASK: u32 = (1 << SHIFT) - 1;
 
-/// A leaf's blocks, by kind.
+/// A leaf's blocks: its triangles, its spheres, and the rest (rarer):
+/// its cones, then its objects.
 #[derive(Clone, Copy)]
 pub(super) struct Leaf<'a> {
     tris: &'a [Block],
     spheres: &'a [Block],
-    cones: &'a [Block],
-    objects: &'a [Block],
+    rest: &'a [Block],
+    /// The cone blocks among `rest` (the others are objects).
+    cones: u32,
 }
 
-impl Leaf<'_> {
+/// A leaf slot as the walks pass it to their leaf steps: where its
+/// blocks start and its `count` (eight bytes, passed in a register; a
+/// `Leaf` of slices went through memory, its loads stalled behind the
+/// stores that made it).
+#[derive(Clone, Copy)]
+pub(super) struct Slot {
+    first: u32,
+    count: u32,
+}
+
+impl Slot {
     /// The number of blocks.
+    #[inline(always)]
+    fn len(self) -> u32 {
+        (0..4).map(|k| self.count >> (k * SHIFT) & MASK).sum()
+    }
+}
+
+impl<'a> Leaf<'a> {
+    /// The number of blocks.
+    #[inline(always)]
     fn len(&self) -> usize {
-        self.tris.len() + self.spheres.len() + self.cones.len() + self.objects.len()
+        self.tris.len() + self.spheres.len() + self.rest.len()
+    }
+
+    /// Whether it has cones or objects.
+    #[inline(always)]
+    fn has_rest(&self) -> bool {
+        !self.rest.is_empty()
+    }
+
+    fn cones(&self) -> &'a [Block] {
+        &self.rest[..self.cones as usize]
+    }
+
+    fn objects(&self) -> &'a [Block] {
+        &self.rest[self.cones as usize..]
     }
 }
 
@@ -585,7 +620,8 @@ impl Bvh {
             let mut consider = |hit, t_max: &mut f32| c.consider(&self.recs, hit, t_max);
             self.objects_hit(&self.unbounded, ray, t_min, &mut t_max, &mut consider);
         }
-        let steps = self.traverse::<true>(ray, t_min, &mut t_max, |leaf, t_max| {
+        let steps = self.traverse::<true>(ray, t_min, &mut t_max, |slot, t_max| {
+            let leaf = self.leaf_blocks(slot);
             self.leaf_closest(ray, (&mut pre, &mut slabs), leaf, t_min, t_max, &mut c);
             false
         });
@@ -601,19 +637,19 @@ impl Bvh {
         &self,
         ray: &Ray,
         (pre, slabs): (&mut Option<Pre4>, &mut Option<Slabs4>),
-        Leaf { tris, spheres, cones, objects }: Leaf,
+        leaf: Leaf,
         t_min: f32,
         t_max: &mut f32,
         c: &mut Closest,
     ) {
-        for b in tris {
+        for b in leaf.tris {
             let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
             b.each_triangle_hit(pre, t_min, *t_max, |l, t, uv| {
                 c.consider(&self.recs, Hit { t, prim: self.prim(b, l), uv, sub: 0 }, t_max);
                 false
             });
         }
-        for b in spheres {
+        for b in leaf.spheres {
             let (mut mask, t) = b.spheres(ray, t_min, *t_max);
             while mask != 0 {
                 let l = mask.trailing_zeros() as usize;
@@ -622,7 +658,29 @@ impl Bvh {
                 c.consider(&self.recs, hit, t_max);
             }
         }
-        for b in cones {
+        if leaf.has_rest() {
+            self.rest_closest(ray, slabs, leaf, t_min, t_max, c);
+        }
+    }
+
+    /// The cone and object blocks of `leaf_closest` (out of line: the
+    /// walks of meshes and spheres stay as lean as without them).
+    #[inline(never)]
+    fn rest_closest(
+        &self,
+        ray: &Ray,
+        slabs: &mut Option<Slabs4>,
+        leaf: Leaf,
+        t_min: f32,
+        t_max: &mut f32,
+        c: &mut Closest,
+    ) {
+        for b in leaf.objects() {
+            let prims = self.entered(b, ray, slabs, t_min, *t_max);
+            let mut consider = |hit, t_max: &mut f32| c.consider(&self.recs, hit, t_max);
+            self.objects_hit(&prims, ray, t_min, t_max, &mut consider);
+        }
+        for b in leaf.cones() {
             let (mut mask, t, part) = b.cones(ray, t_min, *t_max);
             while mask != 0 {
                 let l = mask.trailing_zeros() as usize & 3;
@@ -630,11 +688,6 @@ impl Bvh {
                 let hit = Hit { t: t[l], prim: self.prim(b, l), uv: [0.0; 2], sub: part[l] };
                 c.consider(&self.recs, hit, t_max);
             }
-        }
-        for b in objects {
-            let prims = self.entered(b, ray, slabs, t_min, *t_max);
-            let mut consider = |hit, t_max: &mut f32| c.consider(&self.recs, hit, t_max);
-            self.objects_hit(&prims, ray, t_min, t_max, &mut consider);
         }
     }
 
@@ -657,7 +710,8 @@ impl Bvh {
         let start = Ray { origin: ray.at(back), ..*ray };
         let pre = Pre4::new(&start, &RayPre::new(start.dir));
         let mut t_end = f32::INFINITY;
-        self.traverse::<false>(&start, 0.0, &mut t_end, |leaf, t_max| {
+        self.traverse::<false>(&start, 0.0, &mut t_end, |slot, t_max| {
+            let leaf = self.leaf_blocks(slot);
             for b in leaf.tris {
                 let (mut mask, t, _) = b.triangles(&pre, 0.0, *t_max);
                 while mask != 0 {
@@ -678,7 +732,7 @@ impl Bvh {
                     }
                 }
             }
-            for b in leaf.cones {
+            for b in leaf.cones() {
                 for l in 0..4 {
                     let (mut from, prim) = (0.0, self.prim(b, l));
                     while let Some((t, _)) = b.cone(l, &start, from, *t_max) {
@@ -780,12 +834,9 @@ impl Bvh {
         }
         let mut t_end = t_max;
         let mut slabs = None;
-        self.traverse::<false>(ray, t_min, &mut t_end, |leaf, t_max| {
-            let kinds = [
-                (BlockKind::Triangles, leaf.tris),
-                (BlockKind::Spheres, leaf.spheres),
-                (BlockKind::Cones, leaf.cones),
-            ];
+        self.traverse::<false>(ray, t_min, &mut t_end, |slot, t_max| {
+            let leaf = self.leaf_blocks(slot);
+            let kinds = [(BlockKind::Triangles, leaf.tris), (BlockKind::Spheres, leaf.spheres)];
             for (kind, blocks) in kinds {
                 for b in blocks {
                     let mut each = |hit| {
@@ -798,7 +849,18 @@ impl Bvh {
                     }
                 }
             }
-            for b in leaf.objects {
+            if leaf.cones != 0 {
+                let mut each = |hit| {
+                    through *= pass(hit);
+                    through == Vec3::ZERO
+                };
+                if let Some(b) = self.cones_blocking(leaf.cones(), ray, (t_min, *t_max), &mut each)
+                {
+                    *last = Occluder::of(self, b, BlockKind::Cones);
+                    return true;
+                }
+            }
+            for b in leaf.objects() {
                 let prims = self.entered(b, ray, &mut slabs, t_min, *t_max);
                 through *= self.objects_through(&prims, ray, (t_min, *t_max), &mut pass);
                 if through == Vec3::ZERO {
@@ -849,23 +911,46 @@ impl Bvh {
                 }
                 false
             }
-            BlockKind::Cones => {
-                let (mut mask, _, _) = b.cones(ray, t_min, t_max);
-                while mask != 0 {
-                    let l = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let mut from = t_min;
-                    while let Some((t, _)) = b.cone(l, ray, from, t_max) {
-                        let material = self.recs[self.prim(b, l) as usize].material;
-                        if each(ShadowHit::new(material, t)) {
-                            return true;
-                        }
-                        from = t;
-                    }
+            BlockKind::Cones => self.cone_hits(b, ray, (t_min, t_max), each),
+        }
+    }
+
+    /// The first of the cone blocks `blocks` for which `cone_hits` is
+    /// true.
+    #[inline(never)]
+    fn cones_blocking<'a>(
+        &self,
+        blocks: &'a [Block],
+        ray: &Ray,
+        segment: (f32, f32),
+        each: &mut dyn FnMut(ShadowHit) -> bool,
+    ) -> Option<&'a Block> {
+        blocks.iter().find(|b| self.cone_hits(b, ray, segment, each))
+    }
+
+    /// `block_hits` for a block of cones (out of line, as `rest_closest`).
+    #[inline(never)]
+    fn cone_hits(
+        &self,
+        b: &Block,
+        ray: &Ray,
+        (t_min, t_max): (f32, f32),
+        each: &mut dyn FnMut(ShadowHit) -> bool,
+    ) -> bool {
+        let (mut mask, _, _) = b.cones(ray, t_min, t_max);
+        while mask != 0 {
+            let l = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            let mut from = t_min;
+            while let Some((t, _)) = b.cone(l, ray, from, t_max) {
+                let material = self.recs[self.prim(b, l) as usize].material;
+                if each(ShadowHit::new(material, t)) {
+                    return true;
                 }
-                false
+                from = t;
             }
         }
+        false
     }
 
     /// Walks the nodes the ray's segment overlaps, nearest child first, and
@@ -883,7 +968,7 @@ impl Bvh {
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        leaf: impl FnMut(Leaf, &mut f32) -> bool,
+        leaf: impl FnMut(Slot, &mut f32) -> bool,
     ) -> u32 {
         // A non-finite ray is never walked: its slab tests would be NaN.
         if self.nodes.len() == 0 || !(ray.origin.is_finite() && ray.dir.is_finite()) {
@@ -915,17 +1000,13 @@ impl Bvh {
 
     /// A leaf slot's blocks: its triangles, spheres, cones and objects.
     #[inline(always)]
-    fn leaf_blocks(&self, first: u32, count: u32) -> Leaf<'_> {
+    fn leaf_blocks(&self, Slot { first, count }: Slot) -> Leaf<'_> {
         let first = first as usize;
-        let tris = (count & MASK) as usize;
-        let spheres = (count >> SHIFT & MASK) as usize;
-        let cones = (count >> (2 * SHIFT) & MASK) as usize;
-        let objects = (count >> (3 * SHIFT)) as usize;
-        let blocks = &self.blocks[first..first + tris + spheres + cones + objects];
-        let (tris, rest) = blocks.split_at(tris);
-        let (spheres, rest) = rest.split_at(spheres);
-        let (cones, objects) = rest.split_at(cones);
-        Leaf { tris, spheres, cones, objects }
+        let n = |k: u32| (count >> (k * SHIFT) & MASK) as usize;
+        let blocks = &self.blocks[first..first + n(0) + n(1) + n(2) + n(3)];
+        let (tris, rest) = blocks.split_at(n(0));
+        let (spheres, rest) = rest.split_at(n(1));
+        Leaf { tris, spheres, rest, cones: n(2) as u32 }
     }
 
     #[inline(always)]
@@ -938,7 +1019,7 @@ impl Bvh {
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        mut leaf: impl FnMut(Leaf, &mut f32) -> bool,
+        mut leaf: impl FnMut(Slot, &mut f32) -> bool,
     ) -> u32 {
         let slabs = kernel.slabs(ray);
         // A walk never holds more than N - 1 entries a level; more would
@@ -949,9 +1030,9 @@ impl Bvh {
         loop {
             steps += 1;
             if current.count > 0 {
-                let blocks = self.leaf_blocks(current.child, current.count);
-                steps += blocks.len() as u32;
-                if leaf(blocks, t_max) {
+                let slot = Slot { first: current.child, count: current.count };
+                steps += slot.len();
+                if leaf(slot, t_max) {
                     return steps;
                 }
             } else {

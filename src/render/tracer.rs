@@ -532,7 +532,9 @@ fn traceable(ray: &Ray, st: &RayStats) -> bool {
 }
 
 /// `trace` of a camera ray whose closest hit (and steps) was found
-/// already, in a packet.
+/// already, in a packet. (Inlined into the loop over a packet's pixels:
+/// a call per pixel cost a primary-only render 15 %.)
+#[inline(always)]
 fn trace_from(scene: &Scene, ray: &Ray, found: (Option<Hit>, u32), st: &mut RayStats) -> Vec3 {
     if !traceable(ray, st) {
         return Vec3::ZERO;

@@ -16,7 +16,9 @@ use super::super::aabb::ROBUST;
 #[cfg(target_arch = "x86_64")]
 use super::Avx2;
 use super::wide::{Frustum, Kernel, Slots, inv, near_planes};
-use super::{Aabb, Bvh, Closest, Distance, Four, Hit, Leaf, Nodes, Pre4, Ray, Slabs4, push_sorted};
+use super::{
+    Aabb, Bvh, Closest, Distance, Four, Hit, Leaf, Nodes, Pre4, Ray, Slabs4, Slot, push_sorted,
+};
 
 /// The most rays in a packet: a block of 8×8 pixels.
 pub const PACKET: usize = 64;
@@ -159,7 +161,8 @@ impl Bvh {
         // The rays that reached a leaf (and may have made constants).
         let mut used = 0u64;
         let mut steps = [0u32; PACKET];
-        let leaf = |i: usize, leaf: Leaf, t_max: &mut f32| {
+        let leaf = |i: usize, leaf: &Leaf, t_max: &mut f32| {
+            let leaf = *leaf;
             let i = i & (PACKET - 1);
             used |= 1 << i;
             steps[i] += 1 + leaf.len() as u32;
@@ -215,7 +218,7 @@ impl Bvh {
         p: &Rays,
         t_min: f32,
         t_max: &mut [f32; PACKET],
-        mut leaf: impl FnMut(usize, Leaf, &mut f32),
+        mut leaf: impl FnMut(usize, &Leaf, &mut f32),
     ) -> u32 {
         let frustum = kernel.frustum(&p.frustum);
         // As in `walk`: more entries would mean a broken tree.
@@ -260,13 +263,13 @@ impl Bvh {
             if rays == 0 {
                 continue;
             }
-            let blocks = self.leaf_blocks(e.child, e.count);
+            let blocks = self.leaf_blocks(Slot { first: e.child, count: e.count });
             let mut shortened = false;
             while rays != 0 {
                 let i = rays.trailing_zeros() as usize & (PACKET - 1);
                 rays &= rays - 1;
                 let before = t_max[i];
-                leaf(i, blocks, &mut t_max[i]);
+                leaf(i, &blocks, &mut t_max[i]);
                 shortened |= t_max[i] != before;
             }
             if shortened {
