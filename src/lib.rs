@@ -12,6 +12,7 @@
 //!   trees with locals in slots), `stream` (whole files, the scanner
 //!   thread), `expr`, `builtins`. It knows nothing about graphics.
 //! - `geometry`: rays (with a time), boxes, spheres, watertight triangles,
+//!   cones and cylinders,
 //!   the BVH (a binned SAH binary tree collapsed by the least-area plan,
 //!   `bvh::Plan`, into 8-wide nodes where the CPU has AVX2, else 4-wide:
 //!   `bvh::wide`) whose leaves hold blocks of four primitives tested in
@@ -72,7 +73,7 @@
 //! - Of hits within `bvh::TIE` of each other, the primitive added to the
 //!   scene first wins: coplanar surfaces resolve the same way for any tree
 //!   (still or moving), walk order, lane or thread count (a tree numbers
-//!   up to 2^30 primitives; past that they share a number, and their ties
+//!   up to 2^29 primitives; past that they share a number, and their ties
 //!   follow the walk, still the same for any thread count).
 //! - A compiled proc body (`interp/compile.rs`) is an optimisation, never
 //!   a second semantics: each compiled command keeps its parsed source and

@@ -1,5 +1,5 @@
 //! The bounding volume hierarchy: a binned-SAH build over every primitive
-//! (triangles and spheres alike) into a binary tree, collapsed into a
+//! (triangles, spheres, cones and objects alike) into a binary tree, collapsed into a
 //! tree of 8-wide nodes (where the CPU has AVX2) or 4-wide ones (`wide`),
 //! in depth-first order, whose leaves are blocks of four primitives
 //! (`blocks`); traversed with an explicit stack, nearest child first, one
@@ -563,7 +563,7 @@ impl Bvh {
     }
 
     /// The number in the scene of primitive `prim` (its index in the
-    /// shapes the tree was built from; at most 2^30 - 1, which all later
+    /// shapes the tree was built from; at most 2^29 - 1, which all later
     /// primitives share).
     pub fn id(&self, prim: u32) -> u32 {
         self.recs[prim as usize].id()

@@ -1,4 +1,5 @@
-//! Geometry: rays, boxes, spheres, triangles and the BVH over them. A leaf:
+//! Geometry: rays, boxes, spheres, triangles, cones and the BVH over them,
+//! and the objects it holds beside them. A leaf:
 //! it depends only on glam. Every query takes its own `t_min`/`t_max`;
 //! there is no global epsilon.
 
