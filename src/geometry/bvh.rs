@@ -937,17 +937,19 @@ impl Bvh {
         (t_min, t_max): (f32, f32),
         each: &mut dyn FnMut(ShadowHit) -> bool,
     ) -> bool {
-        let (mut mask, _, _) = b.cones(ray, t_min, t_max);
+        let (mut mask, first, _) = b.cones(ray, t_min, t_max);
         while mask != 0 {
-            let l = mask.trailing_zeros() as usize;
+            let l = mask.trailing_zeros() as usize & 3;
             mask &= mask - 1;
-            let mut from = t_min;
-            while let Some((t, _)) = b.cone(l, ray, from, t_max) {
-                let material = self.recs[self.prim(b, l) as usize].material;
+            let material = self.recs[self.prim(b, l) as usize].material;
+            // The lane's first crossing is the four-wide test's; only the
+            // ones past it are asked for again.
+            let mut next = Some(first[l]);
+            while let Some(t) = next {
                 if each(ShadowHit::new(material, t)) {
                     return true;
                 }
-                from = t;
+                next = b.cone(l, ray, t, t_max).map(|(t, _)| t);
             }
         }
         false

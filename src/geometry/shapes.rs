@@ -50,8 +50,8 @@ pub struct Cone {
 }
 
 impl Cone {
-    /// The parts `intersect_cone` names: the side and the two caps (as
-    /// `Solid::Cone` numbers them).
+    /// The parts `intersect_cone` names: the side and the two caps (also
+    /// `Solid::Cone`'s).
     pub const SIDE: u32 = 0;
     pub const CAP0: u32 = 1;
     pub const CAP1: u32 = 2;

@@ -8,7 +8,7 @@
 use glam::{DVec3, Vec3};
 
 use super::poly;
-use super::{Aabb, Ray};
+use super::{Aabb, Cone, Ray};
 
 /// An analytic shape in its own coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,10 +72,11 @@ impl Crossings {
     }
 }
 
-/// The parts of a cone: its side and its two caps.
-const SIDE: u32 = 0;
-const CAP0: u32 = 1;
-const CAP1: u32 = 2;
+/// The parts of a cone: its side and its two caps (numbered as the BVH's
+/// own cones number them).
+const SIDE: u32 = Cone::SIDE;
+const CAP0: u32 = Cone::CAP0;
+const CAP1: u32 = Cone::CAP1;
 
 impl Solid {
     /// Whether it encloses a volume (CSG needs that).

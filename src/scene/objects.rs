@@ -272,6 +272,21 @@ impl Builder {
         !self.csg.is_empty()
     }
 
+    /// Where a shape keeps its kind (a sphere stays a sphere, a cone a
+    /// cone) outside a CSG: the current transform as a map of points and
+    /// its scale, when it is a similarity (or none); `None` otherwise.
+    fn similar(&self) -> Option<(impl Fn(DVec3) -> DVec3 + use<>, f64)> {
+        if self.in_csg() {
+            return None;
+        }
+        let m = self.placed();
+        let s = match m {
+            None => 1.0,
+            Some(m) => similarity(&m.matrix3)?,
+        };
+        Some((move |p| m.map_or(p, |m| m.transform_point3(p)), s))
+    }
+
     /// A sphere under the current transform: a sphere still under a
     /// similarity, an ellipsoid (an object) otherwise; a CSG leaf in a CSG.
     pub(crate) fn placed_sphere(
@@ -279,22 +294,13 @@ impl Builder {
         c: DVec3,
         r: f64,
     ) -> Result<Option<(DVec3, f64)>, SceneError> {
+        if let Some((place, s)) = self.similar() {
+            return Ok(Some((place(c), r * s)));
+        }
         let local =
             DAffine3::from_scale_rotation_translation(DVec3::splat(r), glam::DQuat::IDENTITY, c);
-        if self.in_csg() {
-            self.add_solid(Solid::Sphere, local)?;
-            return Ok(None);
-        }
-        match self.placed() {
-            None => Ok(Some((c, r))),
-            Some(m) => match similarity(&m.matrix3) {
-                Some(s) => Ok(Some((m.transform_point3(c), r * s))),
-                None => {
-                    self.add_solid(Solid::Sphere, local)?;
-                    Ok(None)
-                }
-            },
-        }
+        self.add_solid(Solid::Sphere, local)?;
+        Ok(None)
     }
 
     pub fn plane(&mut self, n: DVec3, d: f64) -> Result<(), SceneError> {
@@ -343,15 +349,8 @@ impl Builder {
         }
         // Placed by a similarity (or not at all), it stays a cone: one
         // the BVH tests natively, four at once.
-        let native = match self.placed() {
-            _ if self.in_csg() => None,
-            None => Some((a, b, 1.0)),
-            Some(m) => {
-                similarity(&m.matrix3).map(|s| (m.transform_point3(a), m.transform_point3(b), s))
-            }
-        };
-        if let Some((a, b, s)) = native
-            && let (Ok(a), Ok(b)) = (position(a), position(b))
+        if let Some((place, s)) = self.similar()
+            && let (Ok(a), Ok(b)) = (position(place(a)), position(place(b)))
         {
             // (One single precision cannot hold goes the general way.)
             let (r0, r1) = (r0 * s, r1 * s);
