@@ -4,9 +4,10 @@
 # renderers trace the same scene.
 #   - The view: NFF is right-handed, POV-Ray left-handed: `right -x` keeps
 #     the picture the same way round.
-#   - Lights: constant intensity, the colour (our `nff` makes a point light
-#     of colour·d², d its distance to `at`: the same light at `at`).
-#   - `f r g b Kd Ks Shine T ior`: no ambient, Kd diffuse, Ks both the
+#   - Lights: the colour, not falling off (our `nff` makes a point light
+#     with falloff 1 0 0).
+#   - `f r g b Kd Ks Shine T ior`: no ambient, Kd diffuse (over 1 - T, as
+#     POV-Ray dims a filtering surface's diffuse light by that), Ks both the
 #     Phong highlight and the mirror reflection, T filtered transmission.
 #   - Polygons and patches become triangle fans, in one `mesh` per run of
 #     polygons under one material (POV-Ray's fastest form for triangles).
@@ -85,6 +86,9 @@ while {$i < [llength $tokens]} {
             if {$ior == 0} { set ior 1 }
             incr nmat
             set name M$nmat
+            # POV-Ray lights a filtering surface's diffuse term times
+            # (1 - filter); ours is Kd whatever T is.
+            if {$t > 0 && $t < 1} { set kd [expr {$kd / (1.0 - $t)}] }
             lappend out "#declare $name = material \{ texture \{\
                 pigment \{ rgbf <[join $c {, }], $t> \}\
                 finish \{ ambient 0 diffuse $kd phong $ks phong_size $shine reflection \{ $ks \} \} \}\

@@ -131,8 +131,11 @@ impl LightSet {
             let l = l.relative_to(origin);
             power.push(match l {
                 Light::Parallel { color, .. } => mean(color) * PI * scene_area,
-                Light::Point { color, .. } | Light::Spot { color, .. } => {
-                    mean(color) * PI * 4.0 * PI
+                // A light that does not fall off as 1/r² weighs as much as
+                // it lights the scene's edge.
+                Light::Point { color, falloff, .. } | Light::Spot { color, falloff, .. } => {
+                    let edge = radius * radius / falloff.at(radius, radius * radius);
+                    mean(color) * PI * 4.0 * PI * if edge.is_finite() { edge } else { 1.0 }
                 }
                 Light::Area { radiance, u, v, .. } => mean(radiance) * PI * u.cross(v).length(),
                 Light::Sphere { radiance, radius, .. } => {

@@ -1,4 +1,5 @@
-//! Lights: parallel (infinitely far), point (1/r² falloff), spot, and the
+//! Lights: parallel (infinitely far), point (1/r² falloff unless told
+//! otherwise, see `Falloff`), spot, and the
 //! lights with a size: a parallelogram (`area_light`) and a sphere
 //! (`sphere_light`), of a given radiance, sampled at each shading point and
 //! seen by camera and reflected rays.
@@ -19,6 +20,7 @@ pub enum Light {
     Point {
         color: Vec3,
         pos: DVec3,
+        falloff: Falloff,
     },
     /// Full strength within `inner` of the axis, fading linearly to zero at
     /// `outer` (both as cosines).
@@ -28,6 +30,7 @@ pub enum Light {
         dir: Vec3,
         cos_inner: f32,
         cos_outer: f32,
+        falloff: Falloff,
     },
     /// A parallelogram from `corner` along edges `u` and `v`, emitting
     /// `radiance` from the side `u × v` points to; `n`×`n` stratified
@@ -48,6 +51,45 @@ pub enum Light {
     },
 }
 
+/// How a point or spot light's strength falls with the distance r: the
+/// light arriving is its colour over `constant + linear·r + quadratic·r²`
+/// (OpenGL's and VRML's attenuation). `INVERSE_SQUARE` (0, 0, 1) is the
+/// physical light and the default; NFF's lights and POV-Ray's
+/// `light_source` do not fall off: `NONE` (1, 0, 0).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Falloff {
+    pub constant: f32,
+    pub linear: f32,
+    pub quadratic: f32,
+}
+
+impl Falloff {
+    pub const INVERSE_SQUARE: Falloff = Falloff { constant: 0.0, linear: 0.0, quadratic: 1.0 };
+    pub const NONE: Falloff = Falloff { constant: 1.0, linear: 0.0, quadratic: 0.0 };
+
+    /// Checks the coefficients: finite, not negative, not all zero.
+    pub fn new(constant: f32, linear: f32, quadratic: f32) -> Result<Falloff, SceneError> {
+        let all = [constant, linear, quadratic];
+        if all.iter().any(|c| !(c.is_finite() && *c >= 0.0)) || all.iter().all(|&c| c == 0.0) {
+            return Err(SceneError::Invalid(format!(
+                "light falloff coefficients must be finite, not negative and not all zero, got {constant} {linear} {quadratic}"
+            )));
+        }
+        Ok(Falloff { constant, linear, quadratic })
+    }
+
+    /// The divisor at distance `r` (`r2` = r², already at hand). The
+    /// default gives exactly r².
+    #[inline]
+    pub fn at(self, r: f32, r2: f32) -> f32 {
+        if self == Falloff::INVERSE_SQUARE {
+            r2
+        } else {
+            self.constant + self.linear * r + self.quadratic * r2
+        }
+    }
+}
+
 /// The most samples per side an area or sphere light takes.
 pub const MAX_LIGHT_SAMPLES: u32 = 32;
 
@@ -59,8 +101,8 @@ impl Light {
         })
     }
 
-    pub fn point(color: Vec3, pos: DVec3) -> Result<Light, SceneError> {
-        Ok(Light::Point { color: check_color(color)?, pos })
+    pub fn point(color: Vec3, pos: DVec3, falloff: Falloff) -> Result<Light, SceneError> {
+        Ok(Light::Point { color: check_color(color)?, pos, falloff })
     }
 
     pub fn spot(
@@ -69,6 +111,7 @@ impl Light {
         dir: Vec3,
         inner_deg: f32,
         outer_deg: f32,
+        falloff: Falloff,
     ) -> Result<Light, SceneError> {
         if !(0.0..=180.0).contains(&inner_deg)
             || !(0.0..=180.0).contains(&outer_deg)
@@ -84,6 +127,7 @@ impl Light {
             dir: check_nonzero(dir, "spot light direction")?.normalize(),
             cos_inner: inner_deg.to_radians().cos(),
             cos_outer: outer_deg.to_radians().cos(),
+            falloff,
         })
     }
 
@@ -219,7 +263,7 @@ impl Light {
     pub(crate) fn check(&self) -> Result<(), SceneError> {
         let ok = match self {
             Light::Parallel { color, dir } => color.is_finite() && dir.is_finite(),
-            Light::Point { color, pos } => color.is_finite() && in_range(*pos),
+            Light::Point { color, pos, .. } => color.is_finite() && in_range(*pos),
             Light::Spot { color, pos, dir, .. } => {
                 color.is_finite() && in_range(*pos) && dir.is_finite()
             }
@@ -237,9 +281,11 @@ impl Light {
     pub fn relative_to(self, origin: DVec3) -> Light {
         match self {
             Light::Parallel { .. } => self,
-            Light::Point { color, pos } => Light::Point { color, pos: pos - origin },
-            Light::Spot { color, pos, dir, cos_inner, cos_outer } => {
-                Light::Spot { color, pos: pos - origin, dir, cos_inner, cos_outer }
+            Light::Point { color, pos, falloff } => {
+                Light::Point { color, pos: pos - origin, falloff }
+            }
+            Light::Spot { color, pos, dir, cos_inner, cos_outer, falloff } => {
+                Light::Spot { color, pos: pos - origin, dir, cos_inner, cos_outer, falloff }
             }
             Light::Area { radiance, corner, u, v, n } => {
                 Light::Area { radiance, corner: corner - origin, u, v, n }
@@ -255,20 +301,20 @@ impl Light {
     pub fn at(&self, p: Vec3) -> (Vec3, f32, Vec3) {
         match *self {
             Light::Parallel { color, dir } => (-dir, f32::INFINITY, color),
-            Light::Point { color, pos } => {
+            Light::Point { color, pos, falloff } => {
                 let d = pos.as_vec3() - p;
                 let r2 = d.length_squared();
                 let r = r2.sqrt();
-                (d / r, r, color / r2)
+                (d / r, r, color / falloff.at(r, r2))
             }
-            Light::Spot { color, pos, dir, cos_inner, cos_outer } => {
+            Light::Spot { color, pos, dir, cos_inner, cos_outer, falloff } => {
                 let d = pos.as_vec3() - p;
                 let r2 = d.length_squared();
                 let r = r2.sqrt();
                 let l = d / r;
                 let cos = (-l).dot(dir);
                 let f = spot_factor(cos, cos_inner, cos_outer);
-                (l, r, color * (f / r2))
+                (l, r, color * (f / falloff.at(r, r2)))
             }
             // The middle of the light, all of it (raybench's shadow rays).
             Light::Area { .. } | Light::Sphere { .. } => {

@@ -17,7 +17,7 @@ pub use builder::{Aim, Builder, MAX_PIXELS, MAX_TRACE_DEPTH, MeshData, SceneErro
 pub use camera::Camera;
 pub use displace::{Displace, MAX_SUBDIVIDE, luminance, subdivide};
 pub use frozen::Scene;
-pub use light::{Light, spot_factor};
+pub use light::{Falloff, Light, spot_factor};
 pub use material::{Bump, Highlight, Material};
 pub use sampling::{Filter, FilterKind, Integrator, Sampling, Tonemap};
 pub use texture::{Image, Mapping, Pattern, Texture, noise, noise_gradient, pattern, turbulence};

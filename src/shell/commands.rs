@@ -14,7 +14,7 @@ use crate::image::{Encoding, Format};
 use crate::interp::{Exception, Interp, Num, Value, check_args, format_double};
 use crate::render;
 use crate::scene::{
-    Builder, Filter, FilterKind, Integrator, Light, Material, Scene, SceneError, Tonemap,
+    Builder, Falloff, Filter, FilterKind, Integrator, Light, Material, Scene, SceneError, Tonemap,
 };
 
 use super::stats::{Picture, RenderReport, ShellState};
@@ -34,7 +34,7 @@ pub(super) struct Args<'a> {
 
 impl Args<'_> {
     fn err(&self, i: usize, msg: impl std::fmt::Display) -> Exception {
-        let arg = self.usage.split_whitespace().nth(i).unwrap_or("?");
+        let arg = self.usage.split_whitespace().nth(i).map_or("?", |w| w.trim_matches('?'));
         Exception::error(format!("{}: {arg}: {msg}", self.name))
     }
 
@@ -65,6 +65,18 @@ impl Args<'_> {
     /// Arguments `i..i+3` as a direction or colour.
     pub(super) fn vec3(&self, i: usize) -> Result<Vec3, Exception> {
         Ok(Vec3::new(self.f32(i)?, self.f32(i + 1)?, self.f32(i + 2)?))
+    }
+
+    /// The optional falloff coefficients at `i..i+3` of a light command
+    /// given `count` numbers: all three or none (1/r²).
+    pub(super) fn falloff(&self, i: usize, count: usize) -> Result<Falloff, Exception> {
+        if count == i {
+            return Ok(Falloff::INVERSE_SQUARE);
+        }
+        if count != i + 3 {
+            return Err(Exception::wrong_args(&format!("{} {}", self.name, self.usage)));
+        }
+        Falloff::new(self.f32(i)?, self.f32(i + 1)?, self.f32(i + 2)?).map_err(scene_err)
     }
 
     /// Argument `i` as an integer: any number syntax with an integral
@@ -357,28 +369,30 @@ pub fn register(interp: &mut Interp, scene: Shared, state: Rc<RefCell<ShellState
             Ok(None)
         },
     );
-    numeric(
+    numeric_opt(
         interp,
         &scene,
         "point_light",
-        "r g b x y z",
-        "a light at (x, y, z), falling off as 1/r^2",
-        move |b, a| {
-            b.add_light(Light::point(a.vec3(0)?, a.pos(3)?).map_err(e)?).map_err(e)?;
-            Ok(None)
+        "r g b x y z ?constant linear quadratic?",
+        3,
+        "a light at (x, y, z), falling off as 1/r^2 (or 1/(constant + linear r + quadratic r^2))",
+        move |b, a, count| {
+            let falloff = a.falloff(6, count)?;
+            b.add_light(Light::point(a.vec3(0)?, a.pos(3)?, falloff).map_err(e)?).map_err(e)
         },
     );
-    numeric(
+    numeric_opt(
         interp,
         &scene,
         "spot_light",
-        "r g b px py pz nx ny nz angle1 angle2",
+        "r g b px py pz nx ny nz angle1 angle2 ?constant linear quadratic?",
+        3,
         "a spot light at p shining along n: full within angle1, fading to nothing at angle2 (degrees)",
-        move |b, a| {
-            let l =
-                Light::spot(a.vec3(0)?, a.pos(3)?, a.vec3(6)?, a.f32(9)?, a.f32(10)?).map_err(e)?;
-            b.add_light(l).map_err(e)?;
-            Ok(None)
+        move |b, a, count| {
+            let falloff = a.falloff(11, count)?;
+            let l = Light::spot(a.vec3(0)?, a.pos(3)?, a.vec3(6)?, a.f32(9)?, a.f32(10)?, falloff)
+                .map_err(e)?;
+            b.add_light(l).map_err(e)
         },
     );
     numeric_opt(

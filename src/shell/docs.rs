@@ -143,7 +143,7 @@ pub const SCENE: &[Doc] = &[
     },
     Doc {
         name: "nff",
-        meaning: "reads an NFF scene (Eric Haines' Neutral File Format, the SPD benchmarks' format: view, background, lights, fill materials, spheres, open cones and cylinders, polygons, patches with normals) and returns `spheres N cones N polygons N patches N lights N`. NFF has no ambient and its lights do not fall off: each becomes a point light of intensity colour·d², d its distance to the view's `at`",
+        meaning: "reads an NFF scene (Eric Haines' Neutral File Format, the SPD benchmarks' format: view, background, lights, fill materials, spheres, open cones and cylinders, polygons, patches with normals) and returns `spheres N cones N polygons N patches N lights N`. NFF has no ambient and its lights do not fall off: each becomes a `point_light` of its colour with falloff `1 0 0`",
         default: "",
         example: "nff balls-s3.nff",
     },
@@ -294,13 +294,13 @@ pub const SCENE: &[Doc] = &[
     },
     Doc {
         name: "point_light",
-        meaning: "light at (x, y, z); arriving light falls off as 1/r²",
+        meaning: "light at (x, y, z); arriving light falls off as 1/r², or as 1/(constant + linear·r + quadratic·r²) when the three coefficients are given (OpenGL's attenuation; `1 0 0` does not fall off, as NFF's and POV-Ray's lights)",
         default: "",
         example: "point_light 20 20 20  -3 6 4",
     },
     Doc {
         name: "spot_light",
-        meaning: "at p shining along n: a point light within `angle1` degrees of the axis, fading linearly (in angle) to nothing at `angle2`",
+        meaning: "at p shining along n: a point light within `angle1` degrees of the axis, fading linearly (in angle) to nothing at `angle2`; falling off with distance as `point_light`'s",
         default: "",
         example: "spot_light 40 40 40  0 5 0  0 -1 0  15 25",
     },

@@ -5,15 +5,15 @@
 //! Read as a stream of words (SPD writes a cone on one line or three), each
 //! item applied to the builder as it is read.
 //!
-//! NFF has no ambient term and its lights do not fall off; a light is
-//! placed as a point light of intensity colour·d², d its distance to the
-//! view's `at` point, so it lights the scene's centre as the file means.
+//! NFF has no ambient term and its lights do not fall off: a light is a
+//! point light of its colour with `Falloff::NONE`, as POV-Ray's
+//! `light_source` is.
 
 use std::io::BufRead;
 
 use glam::{DVec3, Vec3};
 
-use crate::scene::{Builder, Light, Material, SceneError};
+use crate::scene::{Builder, Falloff, Light, Material, SceneError};
 
 /// What a file held, by kind.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -76,9 +76,6 @@ impl<R: BufRead> Words<R> {
 pub fn load(b: &mut Builder, name: &str, reader: impl BufRead) -> Result<Counts, String> {
     let mut w = Words { lines: reader.lines(), line: 0, pending: Vec::new().into_iter() };
     let mut counts = Counts::default();
-    // The view's `at`, for the lights; the lights wait for the view.
-    let mut at: Option<DVec3> = None;
-    let mut lights: Vec<(DVec3, Vec3)> = Vec::new();
     let located = |line: usize, e: String| format!("{name}:{line}: {e}");
     let scene = |e: SceneError| e.to_string();
     loop {
@@ -122,7 +119,6 @@ pub fn load(b: &mut Builder, name: &str, reader: impl BufRead) -> Result<Counts,
                     b.camera_up(up.as_vec3()).map_err(scene)?;
                     b.camera_angle(angle as f32).map_err(scene)?;
                     b.camera_resolution(rw as i64, rh as i64).map_err(scene)?;
-                    at = Some(target);
                 }
                 "b" => b.set_background(w.vec("a colour")?.as_vec3()).map_err(scene)?,
                 "l" => {
@@ -130,7 +126,8 @@ pub fn load(b: &mut Builder, name: &str, reader: impl BufRead) -> Result<Counts,
                     // An optional colour: three more numbers on the line.
                     let colour =
                         if w.pending.len() >= 3 { w.vec("a colour")?.as_vec3() } else { Vec3::ONE };
-                    lights.push((p, colour));
+                    b.add_light(Light::point(colour, p, Falloff::NONE).map_err(scene)?)
+                        .map_err(scene)?;
                     counts.lights += 1;
                 }
                 "f" => {
@@ -191,12 +188,6 @@ pub fn load(b: &mut Builder, name: &str, reader: impl BufRead) -> Result<Counts,
         })();
         r.map_err(|e| located(line, e))?;
     }
-    let centre = at.unwrap_or(DVec3::ZERO);
-    for (p, c) in lights {
-        let d2 = (p - centre).length_squared().max(1e-12) as f32;
-        let light = Light::point(c * d2, p).map_err(|e| format!("{name}: {e}"))?;
-        b.add_light(light).map_err(|e| format!("{name}: {e}"))?;
-    }
     Ok(counts)
 }
 
@@ -218,6 +209,14 @@ mod tests {
         assert_eq!(b.prims.len(), 1 + 2 + 1 + 1);
         assert_eq!(b.objects.len(), 0);
         assert_eq!(b.lights.len(), 2);
+        // NFF's lights do not fall off: the second lights a point 5 or 50
+        // away alike, with its colour.
+        for p in [Vec3::ZERO, Vec3::new(0.0, 0.0, -45.0)] {
+            let (l, r, arriving) = b.lights[1].at(p);
+            assert_eq!((l, r - (5.0 - p.z)), (Vec3::Z, 0.0));
+            assert_eq!(arriving, Vec3::splat(0.5));
+        }
+        assert_eq!(b.lights[0].at(Vec3::ZERO).2, Vec3::ONE);
         let bad = load(&mut Builder::default(), "t.nff", "s 0 0 0 1\ns 0 0 x 1\n".as_bytes());
         assert_eq!(bad.unwrap_err(), "t.nff:2: expected a position but got \"x\"");
         let bad = load(&mut Builder::default(), "t.nff", "q 1\n".as_bytes());

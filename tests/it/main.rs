@@ -153,6 +153,7 @@ fn main() {
         mesh::bundled_bunny_loads,
         pov::refraction_matches_povray,
         pov::shapes_and_csg_match_povray,
+        pov::spd_scenes_match_povray,
         pov::smooth_meshes_refract_the_same_whichever_way_they_are_wound,
         readme::the_opening_example_renders_the_picture_under_it,
         readme::first_scene_steps_render_their_pictures,

@@ -65,14 +65,28 @@ pub fn point_light_falls_off_as_inverse_square() {
         let img = render_script(&format!("{PLANE}point_light 2 2 2  0 0 {d}\n"));
         let want = 0.5 * Vec3::new(0.8, 0.6, 0.4) * 2.0 / (d * d);
         assert!(close(img.get(4, 4), want, 1e-5), "d={d}: {} != {want}", img.get(4, 4));
+        // With falloff coefficients: 1/(c + l·d + q·d²); (1 0 0) does not
+        // fall off at all (NFF's and POV-Ray's lights).
+        for (c, l, q) in [(1.0f32, 0.0, 0.0), (0.5, 0.25, 0.125), (0.0, 0.0, 1.0)] {
+            let img = render_script(&format!("{PLANE}point_light 2 2 2  0 0 {d}  {c} {l} {q}\n"));
+            let want = 0.5 * Vec3::new(0.8, 0.6, 0.4) * 2.0 / (c + l * d + q * d * d);
+            let got = img.get(4, 4);
+            assert!(close(got, want, 1e-5), "d={d} falloff {c} {l} {q}: {got} != {want}");
+        }
     }
 }
 
 pub fn spot_light_falloff_matches_formula() {
+    for falloff in ["", "0.5 0.5 0.5"] {
+        spot_light_with(falloff);
+    }
+}
+
+fn spot_light_with(falloff: &str) {
     let (inner, outer) = (10f32, 30f32);
     let h = 2.0f32;
     let script = format!(
-        "{PLANE}camera_resolution 41 41\nspot_light 3 3 3  0 0 {h}  0 0 -1  {inner} {outer}\n"
+        "{PLANE}camera_resolution 41 41\nspot_light 3 3 3  0 0 {h}  0 0 -1  {inner} {outer} {falloff}\n"
     );
     let img = render_script(&script);
     let cam =
@@ -92,7 +106,8 @@ pub fn spot_light_falloff_matches_formula() {
             if f > 0.0 && f < 1.0 {
                 checked_partial += 1;
             }
-            let want = 0.5 * Vec3::new(0.8, 0.6, 0.4) * 3.0 * f * l.z / r2;
+            let att = if falloff.is_empty() { r2 } else { 0.5 * (1.0 + r2.sqrt() + r2) };
+            let want = 0.5 * Vec3::new(0.8, 0.6, 0.4) * 3.0 * f * l.z / att;
             assert!(
                 close(img.get(x, y), want, 1e-4),
                 "({x},{y}) f={f}: {} != {want}",
