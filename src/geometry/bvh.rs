@@ -189,7 +189,8 @@ impl std::fmt::Debug for Bvh {
 
 /// A primitive during the build: its bounds in SIMD lanes, with its index
 /// in the spare lane of `min` (tagged so it reads as a normal float, which
-/// keeps arithmetic on that lane fast).
+/// keeps arithmetic on that lane fast) and its block kind in the spare lane
+/// of `max` (2 plus the kind: a normal float too).
 #[derive(Clone, Copy, Debug)]
 struct BuildPrim {
     min: Vec4,
@@ -200,13 +201,19 @@ struct BuildPrim {
 const TAG: u32 = 0x4000_0000;
 
 impl BuildPrim {
-    fn new(b: Aabb, index: u32) -> BuildPrim {
+    fn new(b: Aabb, index: u32, kind: usize) -> BuildPrim {
         debug_assert!(index < 0x3f00_0000);
-        BuildPrim { min: b.min.extend(f32::from_bits(TAG | index)), max: b.max.extend(2.0) }
+        let kind = 2.0 + kind as f32;
+        BuildPrim { min: b.min.extend(f32::from_bits(TAG | index)), max: b.max.extend(kind) }
     }
 
     fn index(&self) -> usize {
         (self.min.w.to_bits() & !TAG) as usize
+    }
+
+    /// The kind of block it goes into (`block_kind`).
+    fn kind(&self) -> usize {
+        (self.max.w - 2.0) as usize & 3
     }
 
     #[inline(always)]
@@ -363,7 +370,7 @@ impl Bvh {
                     Shape::Object { bounds, .. } if bounds.is_empty() => return None,
                     _ => {}
                 }
-                Some(BuildPrim::new(s.bounds(), i as u32))
+                Some(BuildPrim::new(s.bounds(), i as u32, block_kind(&s)))
             })
             .collect();
         // (Only objects can be unbounded.)
@@ -384,7 +391,9 @@ impl Bvh {
             .par_chunks(4096)
             .map(bounds_of)
             .reduce(|| (Aabb::EMPTY, Aabb::EMPTY), |a, b| (a.0.union(b.0), a.1.union(b.1)));
-        let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, both, 0, 1) };
+        let mixed = prims.first().is_some_and(|a| prims.par_iter().any(|p| p.kind() != a.kind()));
+        let at = Level { level: 1, mixed };
+        let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, both, 0, at) };
         let mut ordered: Vec<(u32, Shape)> =
             prims.par_iter().map(|p| (p.index() as u32, shape(p.index()))).collect();
         drop(prims);
@@ -1275,23 +1284,17 @@ impl<S: Slots> Widen<'_, S> {
         let (first, count) = (n.offset as usize, n.count as usize);
         let mine = &mut self.shapes[first..first + count];
         // Stable: triangles first, then spheres, cones, objects.
-        let kind = |s: &Shape| match s {
-            Shape::Triangle(_) => 0,
-            Shape::Sphere { .. } => 1,
-            Shape::Cone(_) => 2,
-            Shape::Object { .. } => 3,
-        };
         let start = self.blocks.len() as u32;
         // (A mesh's leaf: all triangles, nothing to sort.)
-        if mine.iter().all(|s| kind(&s.1) == 0) {
+        if mine.iter().all(|s| block_kind(&s.1) == 0) {
             Block::pack(mine, self.blocks, self.recs);
             return (start, self.blocks.len() as u32 - start);
         }
-        mine.sort_by_key(|s| kind(&s.1));
+        mine.sort_by_key(|s| block_kind(&s.1));
         let mut counts = [0u32; 4];
         let mut from = 0;
         for (k, c) in counts.iter_mut().enumerate() {
-            let n = mine[from..].iter().take_while(|s| kind(&s.1) == k).count();
+            let n = mine[from..].iter().take_while(|s| block_kind(&s.1) == k).count();
             let before = self.blocks.len();
             let prims = &mine[from..from + n];
             Block::pack(prims, self.blocks, self.recs);
@@ -1318,6 +1321,16 @@ impl<S: Slots> Widen<'_, S> {
     }
 }
 
+/// The blocks of a leaf in order: triangles (0), spheres, cones, objects.
+fn block_kind(s: &Shape) -> usize {
+    match s {
+        Shape::Triangle(_) => 0,
+        Shape::Sphere { .. } => 1,
+        Shape::Cone(_) => 2,
+        Shape::Object { .. } => 3,
+    }
+}
+
 fn make_leaf(prims: &[BuildPrim], first: usize, bounds: Aabb) -> Node {
     Node::new(bounds, first as u32, prims.len() as u32)
 }
@@ -1328,6 +1341,20 @@ const PARALLEL_BUILD: usize = 8 * 1024;
 /// A set of primitives' bounds and the bounds of their centroids.
 type Bounds2 = (Aabb, Aabb);
 
+/// Where a split is made: its depth in the binary tree, and whether the
+/// tree mixes kinds of blocks (see `split`).
+#[derive(Clone, Copy)]
+struct Level {
+    level: usize,
+    mixed: bool,
+}
+
+impl Level {
+    fn down(self) -> Level {
+        Level { level: self.level + 1, ..self }
+    }
+}
+
 enum Split {
     Leaf,
     /// Partitioned: the left child holds `prims[..mid]`; the children's
@@ -1335,32 +1362,35 @@ enum Split {
     Inner(usize, Option<[Bounds2; 2]>),
 }
 
-/// Primitives counted into `BINS` buckets along one axis.
+/// Primitives counted into `BINS` buckets along one axis, by block kind
+/// (`block_kind`) when `K` is 4, all together when it is 1.
 #[derive(Clone, Copy)]
-struct Bins {
-    counts: [usize; BINS],
+struct Bins<const K: usize> {
+    counts: [[usize; K]; BINS],
     boxes: [Aabb; BINS],
     centroids: [Aabb; BINS],
 }
 
-impl Bins {
-    const EMPTY: Bins =
-        Bins { counts: [0; BINS], boxes: [Aabb::EMPTY; BINS], centroids: [Aabb::EMPTY; BINS] };
+impl<const K: usize> Bins<K> {
+    const EMPTY: Bins<K> =
+        Bins { counts: [[0; K]; BINS], boxes: [Aabb::EMPTY; BINS], centroids: [Aabb::EMPTY; BINS] };
 
-    fn add(mut self, prims: &[BuildPrim], bin_of: impl Fn(Vec3A) -> usize) -> Bins {
+    fn add(mut self, prims: &[BuildPrim], bin_of: impl Fn(Vec3A) -> usize) -> Bins<K> {
         for p in prims {
             let c = p.centroid2();
             let b = bin_of(c);
-            self.counts[b] += 1;
+            self.counts[b][if K > 1 { p.kind() % K } else { 0 }] += 1;
             self.boxes[b] = self.boxes[b].union(p.bounds());
             self.centroids[b] = self.centroids[b].grow(c);
         }
         self
     }
 
-    fn merge(mut self, o: Bins) -> Bins {
+    fn merge(mut self, o: Bins<K>) -> Bins<K> {
         for b in 0..BINS {
-            self.counts[b] += o.counts[b];
+            for k in 0..K {
+                self.counts[b][k] += o.counts[b][k];
+            }
             self.boxes[b] = self.boxes[b].union(o.boxes[b]);
             self.centroids[b] = self.centroids[b].union(o.centroids[b]);
         }
@@ -1378,13 +1408,19 @@ impl Bins {
 /// Decides how to split `prims` (reordering them) with the surface area
 /// heuristic over `BINS` buckets along the widest centroid axis; large
 /// sets are binned on all threads.
-fn split(prims: &mut [BuildPrim], (bounds, cbounds): Bounds2, level: usize) -> Split {
+///
+/// `mixed`: the tree holds more than one kind of block, so the bins count
+/// each kind's blocks (a leaf tests a block per kind it holds); a mesh's
+/// bins count primitives alone.
+fn split(prims: &mut [BuildPrim], (bounds, cbounds): Bounds2, at: Level) -> Split {
+    let Level { level, mixed } = at;
     // Past 60 levels (only adversarial inputs get there) halve the list:
     // leaves never exceed MAX_LEAF and the depth stays under 60 + 32.
     // A split costs at least the traversal step, and a leaf of up to
-    // `MAX_LEAF` primitives no more than that: such a set is a leaf,
-    // whatever its bins would say, so it is not binned.
-    if prims.len() <= MAX_LEAF && blocks_of(MAX_LEAF) <= TRAVERSAL_COST {
+    // `MAX_LEAF` primitives of one kind no more than that: such a set is a
+    // leaf, whatever its bins would say, so it is not binned. A mix of
+    // kinds costs a block per kind, and may be worth splitting.
+    if prims.len() <= MAX_LEAF && leaf_cost(prims) <= TRAVERSAL_COST {
         return Split::Leaf;
     }
     if prims.len() <= 2 {
@@ -1410,10 +1446,13 @@ fn split(prims: &mut [BuildPrim], (bounds, cbounds): Bounds2, level: usize) -> S
     let scale = BINS as f32 / span;
     // The axis a constant in each copy: no index into the centroid at run
     // time (8% of the split's instructions).
-    match axis {
-        0 => split_on::<0>(prims, bounds, (lo, scale)),
-        1 => split_on::<1>(prims, bounds, (lo, scale)),
-        _ => split_on::<2>(prims, bounds, (lo, scale)),
+    match (axis, mixed) {
+        (0, false) => split_on::<0, 1>(prims, bounds, (lo, scale)),
+        (1, false) => split_on::<1, 1>(prims, bounds, (lo, scale)),
+        (_, false) => split_on::<2, 1>(prims, bounds, (lo, scale)),
+        (0, true) => split_on::<0, 4>(prims, bounds, (lo, scale)),
+        (1, true) => split_on::<1, 4>(prims, bounds, (lo, scale)),
+        (_, true) => split_on::<2, 4>(prims, bounds, (lo, scale)),
     }
 }
 
@@ -1425,7 +1464,7 @@ fn halve(n: usize) -> Split {
 
 /// The rest of `split`, along axis `A`, its centroids binned from `lo`
 /// at `scale` bins per unit.
-fn split_on<const A: usize>(
+fn split_on<const A: usize, const K: usize>(
     prims: &mut [BuildPrim],
     bounds: Aabb,
     (lo, scale): (f32, f32),
@@ -1444,30 +1483,38 @@ fn split_on<const A: usize>(
     let bins = if prims.len() >= PARALLEL_BUILD {
         prims
             .par_chunks(PARALLEL_BUILD / 2)
-            .map(|c| Bins::EMPTY.add(c, bin_of))
+            .map(|c| Bins::<K>::EMPTY.add(c, bin_of))
             .reduce(|| Bins::EMPTY, Bins::merge)
     } else {
-        Bins::EMPTY.add(prims, bin_of)
+        Bins::<K>::EMPTY.add(prims, bin_of)
+    };
+    // (primitives, blocks) of a run of bins' counts.
+    let tally =
+        |n: &[usize; K]| (n.iter().sum::<usize>(), n.iter().map(|&k| blocks_of(k)).sum::<f32>());
+    let add = |a: &mut [usize; K], b: &[usize; K]| {
+        for k in 0..K {
+            a[k] += b[k];
+        }
     };
     let mut right_area = [0.0f32; BINS];
-    let mut right_count = [0usize; BINS];
-    let (mut acc, mut n) = (Aabb::EMPTY, 0);
+    let mut right = [(0usize, 0.0f32); BINS];
+    let (mut acc, mut n) = (Aabb::EMPTY, [0; K]);
     for i in (1..BINS).rev() {
         acc = acc.union(bins.boxes[i]);
-        n += bins.counts[i];
+        add(&mut n, &bins.counts[i]);
         right_area[i] = acc.surface_area();
-        right_count[i] = n;
+        right[i] = tally(&n);
     }
-    let (mut acc, mut n) = (Aabb::EMPTY, 0);
+    let (mut acc, mut n) = (Aabb::EMPTY, [0; K]);
     let mut best = (f32::INFINITY, 0);
     for i in 0..BINS - 1 {
         acc = acc.union(bins.boxes[i]);
-        n += bins.counts[i];
-        if n == 0 || right_count[i + 1] == 0 {
+        add(&mut n, &bins.counts[i]);
+        let (count, blocks) = tally(&n);
+        if count == 0 || right[i + 1].0 == 0 {
             continue;
         }
-        let cost =
-            acc.surface_area() * blocks_of(n) + right_area[i + 1] * blocks_of(right_count[i + 1]);
+        let cost = acc.surface_area() * blocks + right_area[i + 1] * right[i + 1].1;
         if cost < best.0 {
             best = (cost, i);
         }
@@ -1477,7 +1524,7 @@ fn split_on<const A: usize>(
     if best.0.is_infinite() {
         return halve(prims.len());
     }
-    if split_cost >= blocks_of(prims.len()) && prims.len() <= MAX_LEAF {
+    if prims.len() <= MAX_LEAF && split_cost >= leaf_cost(prims) {
         return Split::Leaf;
     }
     let mut i = 0;
@@ -1496,6 +1543,20 @@ fn split_on<const A: usize>(
 /// What testing `n` primitives costs: leaves test them four at a time.
 fn blocks_of(n: usize) -> f32 {
     n.div_ceil(4) as f32
+}
+
+/// What testing `prims` as one leaf costs: a block of four for each kind
+/// (triangles, spheres, cones, objects) it holds. The bins count
+/// primitives of any kind alike (`blocks_of`); a leaf's mix is counted
+/// here, so a ground quad is not kept with the cone and sphere its
+/// centroid bins with, in a leaf as wide as the ground and as high as
+/// them, which every ray near the ground would test.
+fn leaf_cost(prims: &[BuildPrim]) -> f32 {
+    let mut n = [0usize; 4];
+    for p in prims {
+        n[p.kind()] += 1;
+    }
+    n.iter().map(|&k| blocks_of(k)).sum()
 }
 
 /// The bounds of the primitives and of their centroids, in one pass.
@@ -1526,18 +1587,18 @@ fn build_rec(
     both: Bounds2,
     first: usize,
     nodes: &mut Vec<Node>,
-    level: usize,
+    at: Level,
 ) -> usize {
     let bounds = both.0;
     let me = nodes.len();
-    match split(prims, both, level) {
+    match split(prims, both, at) {
         Split::Leaf => nodes.push(make_leaf(prims, first, bounds)),
         Split::Inner(mid, known) => {
             nodes.push(inner(bounds));
             let (left, right) = prims.split_at_mut(mid);
             let [lb, rb] = child_bounds(known, left, right);
-            build_rec(left, lb, first, nodes, level + 1);
-            let second = build_rec(right, rb, first + mid, nodes, level + 1);
+            build_rec(left, lb, first, nodes, at.down());
+            let second = build_rec(right, rb, first + mid, nodes, at.down());
             nodes[me].offset = second as u32;
         }
     }
@@ -1546,21 +1607,21 @@ fn build_rec(
 
 /// The same tree as `build_rec`, building large subtrees on two threads;
 /// returns the subtree's nodes (interior offsets relative to its root).
-fn build_par(prims: &mut [BuildPrim], both: Bounds2, first: usize, level: usize) -> Vec<Node> {
+fn build_par(prims: &mut [BuildPrim], both: Bounds2, first: usize, at: Level) -> Vec<Node> {
     if prims.len() < PARALLEL_BUILD {
         let mut nodes = Vec::with_capacity(prims.len() / 2);
-        build_rec(prims, both, first, &mut nodes, level);
+        build_rec(prims, both, first, &mut nodes, at);
         return nodes;
     }
     let bounds = both.0;
-    match split(prims, both, level) {
+    match split(prims, both, at) {
         Split::Leaf => vec![make_leaf(prims, first, bounds)],
         Split::Inner(mid, known) => {
             let (left, right) = prims.split_at_mut(mid);
             let [lb, rb] = child_bounds(known, left, right);
             let (ln, rn) = rayon::join(
-                || build_par(left, lb, first, level + 1),
-                || build_par(right, rb, first + mid, level + 1),
+                || build_par(left, lb, first, at.down()),
+                || build_par(right, rb, first + mid, at.down()),
             );
             let mut nodes = Vec::with_capacity(1 + ln.len() + rn.len());
             let mut root = inner(bounds);

@@ -610,10 +610,13 @@ fn wide_nodes_have_the_least_area() {
 
     let mut seed = 41;
     let shapes = random_scene(2000, &mut seed);
-    let mut prims: Vec<BuildPrim> =
-        shapes.iter().enumerate().map(|(i, s)| BuildPrim::new(s.bounds(), i as u32)).collect();
+    let mut prims: Vec<BuildPrim> = shapes
+        .iter()
+        .enumerate()
+        .map(|(i, s)| BuildPrim::new(s.bounds(), i as u32, block_kind(s)))
+        .collect();
     let both = bounds_of(&prims);
-    let bin = build_par(&mut prims, both, 0, 1);
+    let bin = build_par(&mut prims, both, 0, Level { level: 1, mixed: true });
     assert_eq!(bin[0].count, 0);
     let near = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.max(b);
     for width in [4, 8] {
@@ -644,4 +647,43 @@ fn records_keep_kind_and_number() {
         assert_eq!(Rec::new(kind, [0; 3], 0, u32::MAX).kind(), kind);
     }
     assert_eq!(Rec::default().kind(), Kind::Empty);
+}
+
+/// A ground quad under a small tree trunk (a cone and a sphere: the SPD
+/// tree's ground and trunk, whose centroids bin together): the ground's
+/// triangles get a leaf of their own, as flat as the ground, so a ray
+/// leaving the ground far from the trunk enters no leaf. In one leaf with
+/// the trunk, its box as wide as the ground and as high as the trunk, the
+/// ray tested three blocks.
+#[test]
+fn a_ground_quad_is_not_kept_with_the_trunk() {
+    let tri =
+        |p: [Vec3; 3]| Shape::Triangle(Triangle { p, normals: [Triangle::FLAT; 3], material: 0 });
+    let (a, b, c, d) = (
+        Vec3::new(-50.0, -50.0, 0.0),
+        Vec3::new(50.0, -50.0, 0.0),
+        Vec3::new(50.0, 50.0, 0.0),
+        Vec3::new(-50.0, 50.0, 0.0),
+    );
+    let trunk = Shape::Cone(Cone {
+        base: Vec3::ZERO,
+        axis: Vec3::Z,
+        h: 1.0,
+        r0: 0.2,
+        slope: -0.1,
+        capped: false,
+        material: 0,
+    });
+    let top = Shape::Sphere { center: Vec3::new(0.0, 0.0, 1.0), radius: 0.1, material: 0 };
+    let tree = Bvh::build(&[tri([a, b, c]), tri([a, c, d]), trunk, top]);
+    // Up from just above the ground, far from the trunk.
+    let ray = Ray::new(Vec3::new(30.0, -20.0, 1e-3), Vec3::new(0.1, 0.2, 1.0).normalize());
+    let (hit, steps) = tree.intersect(&ray, 0.0, f32::INFINITY);
+    assert!(hit.is_none());
+    assert_eq!(steps, 1, "only the root: no leaf entered");
+    // The ground is still there from above, the trunk from the side.
+    let down = Ray::new(Vec3::new(30.0, -20.0, 5.0), Vec3::NEG_Z);
+    assert_eq!(tree.intersect(&down, 0.0, f32::INFINITY).0.map(|h| h.t), Some(5.0));
+    let side = Ray::new(Vec3::new(5.0, 0.0, 0.5), Vec3::NEG_X);
+    assert!(tree.intersect(&side, 0.0, f32::INFINITY).0.is_some());
 }
