@@ -904,18 +904,20 @@ impl Bvh {
                 })
             }
             BlockKind::Spheres => {
-                // Four at once first; then each sphere hit, root by root.
-                let (mut mask, _) = b.spheres(ray, t_min, t_max);
+                // Four at once first; then each sphere hit, root by root:
+                // the first is the four-wide test's (the scalar test's to
+                // the bit), only a second is asked for.
+                let (mut mask, first) = b.spheres(ray, t_min, t_max);
                 while mask != 0 {
-                    let l = mask.trailing_zeros() as usize;
+                    let l = mask.trailing_zeros() as usize & 3;
                     mask &= mask - 1;
-                    let mut from = t_min;
-                    while let Some(t) = b.sphere(l, ray, from, t_max) {
-                        let material = self.recs[self.prim(b, l) as usize].material;
+                    let material = self.recs[self.prim(b, l) as usize].material;
+                    let mut next = Some(first[l]);
+                    while let Some(t) = next {
                         if each(ShadowHit::new(material, t)) {
                             return true;
                         }
-                        from = t;
+                        next = b.sphere(l, ray, t, t_max);
                     }
                 }
                 false
