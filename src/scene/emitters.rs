@@ -135,7 +135,8 @@ impl LightSet {
                 // it lights the scene's edge.
                 Light::Point { color, falloff, .. } | Light::Spot { color, falloff, .. } => {
                     let edge = radius * radius / falloff.at(radius, radius * radius);
-                    mean(color) * PI * 4.0 * PI * if edge.is_finite() { edge } else { 1.0 }
+                    let edge = if edge > 0.0 && edge.is_finite() { edge } else { 1.0 };
+                    mean(color) * PI * 4.0 * PI * edge
                 }
                 Light::Area { radiance, u, v, .. } => mean(radiance) * PI * u.cross(v).length(),
                 Light::Sphere { radiance, radius, .. } => {
