@@ -223,6 +223,30 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         "point_light: z: expected a finite number but got \"NaN\"",
     ),
     (
+        "point_light two falloff coefficients",
+        "point_light 1 1 1 0 0 0 1 0",
+        1,
+        "wrong # args: should be \"point_light r g b x y z ?constant linear quadratic?\"",
+    ),
+    (
+        "point_light negative falloff",
+        "point_light 1 1 1 0 0 0 -1 0 0",
+        1,
+        "light falloff coefficients must be finite, not negative and not all zero, got -1 0 0",
+    ),
+    (
+        "point_light no falloff at all",
+        "point_light 1 1 1 0 0 0 0 0 0",
+        1,
+        "light falloff coefficients must be finite, not negative and not all zero, got 0 0 0",
+    ),
+    (
+        "spot_light falloff not a number",
+        "spot_light 1 1 1 0 0 0 0 -1 0 10 20 1 x 0",
+        1,
+        "spot_light: linear: expected number but got \"x\"",
+    ),
+    (
         "spot_light angles reversed",
         "spot_light 1 1 1 0 0 0 0 -1 0 30 20",
         1,
