@@ -904,23 +904,9 @@ impl Bvh {
                 })
             }
             BlockKind::Spheres => {
-                // Four at once first; then each sphere hit, root by root:
-                // the first is the four-wide test's (the scalar test's to
-                // the bit), only a second is asked for.
-                let (mut mask, first) = b.spheres(ray, t_min, t_max);
-                while mask != 0 {
-                    let l = mask.trailing_zeros() as usize & 3;
-                    mask &= mask - 1;
-                    let material = self.recs[self.prim(b, l) as usize].material;
-                    let mut next = Some(first[l]);
-                    while let Some(t) = next {
-                        if each(ShadowHit::new(material, t)) {
-                            return true;
-                        }
-                        next = b.sphere(l, ray, t, t_max);
-                    }
-                }
-                false
+                // Four at once first; then each sphere hit, root by root.
+                let (mask, first) = b.spheres(ray, t_min, t_max);
+                self.lane_crossings(b, (mask, first), each, |l, t| b.sphere(l, ray, t, t_max))
             }
             BlockKind::Cones => self.cone_hits(b, ray, (t_min, t_max), each),
         }
@@ -948,19 +934,33 @@ impl Bvh {
         (t_min, t_max): (f32, f32),
         each: &mut dyn FnMut(ShadowHit) -> bool,
     ) -> bool {
-        let (mut mask, first, _) = b.cones(ray, t_min, t_max);
+        let (mask, first, _) = b.cones(ray, t_min, t_max);
+        self.lane_crossings(b, (mask, first), each, |l, t| b.cone(l, ray, t, t_max).map(|(t, _)| t))
+    }
+
+    /// Calls `each` for the crossings of the lanes of block `b` that a
+    /// four-wide test found (`mask`), lane by lane, in order along the
+    /// ray: the first is the four-wide test's (`first`, the scalar test's
+    /// to the bit), and `again(lane, t)` finds the next past `t`. Stops,
+    /// and returns true, as soon as `each` returns true.
+    #[inline(always)]
+    fn lane_crossings(
+        &self,
+        b: &Block,
+        (mut mask, first): (u32, Vec4),
+        each: &mut (impl FnMut(ShadowHit) -> bool + ?Sized),
+        again: impl Fn(usize, f32) -> Option<f32>,
+    ) -> bool {
         while mask != 0 {
             let l = mask.trailing_zeros() as usize & 3;
             mask &= mask - 1;
             let material = self.recs[self.prim(b, l) as usize].material;
-            // The lane's first crossing is the four-wide test's; only the
-            // ones past it are asked for again.
             let mut next = Some(first[l]);
             while let Some(t) = next {
                 if each(ShadowHit::new(material, t)) {
                     return true;
                 }
-                next = b.cone(l, ray, t, t_max).map(|(t, _)| t);
+                next = again(l, t);
             }
         }
         false
