@@ -23,11 +23,15 @@ use wide::{Avx2, Wide8};
 use wide::{Four, Kernel, Slabs4, Slots, Wide4};
 
 mod packet;
+mod shadow;
 mod wide;
 
 pub use packet::PACKET;
 #[cfg(test)]
 use packet::Rays;
+#[cfg(test)]
+use shadow::Segments;
+pub use shadow::Shadow;
 
 /// SAH buckets along the split axis.
 const BINS: usize = 16;

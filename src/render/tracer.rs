@@ -25,7 +25,7 @@ use glam::Vec3;
 use super::job::{BLOCK, Job, Out, per_block, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
 use crate::geometry::{
-    Hit, Local, Located, Occluder, PACKET, Ray, ShadowHit, Triangle, intersect_brute,
+    Hit, Local, Located, Occluder, PACKET, Ray, Shadow, ShadowHit, Triangle, intersect_brute,
 };
 use crate::image::Image;
 use crate::scene::{Highlight, Integrator, Material, Scene, texture};
@@ -251,9 +251,35 @@ pub fn render_into(scene: &Scene, job: &Job, buf: Vec<Vec3>) -> Option<(Image, R
                 *r = ray(p);
             }
             scene.intersect_packet(&rays[..n], &mut hits[..n]);
-            for ((p, r), &(hit, steps)) in px.iter().zip(&rays).zip(&hits) {
+            if !packet_shadows(scene) {
+                for ((p, r), &(hit, steps)) in px.iter().zip(&rays).zip(&hits) {
+                    start(st, *p);
+                    values.push(trace_from(scene, r, (hit, steps), st));
+                }
+                return;
+            }
+            // The hits' shading points first, then their shadow rays toward
+            // each point light together, then the rest of their shading.
+            let mut points = [const { None::<Shading> }; PACKET];
+            for ((s, r), (hit, _)) in points.iter_mut().zip(&rays[..n]).zip(&hits) {
+                if let Some(h) = hit
+                    && r.origin.is_finite()
+                    && r.dir.is_finite()
+                {
+                    *s = Some(Shading::new(scene, r, h));
+                }
+            }
+            let known = block_shadows(scene, &rays[..n], &points[..n], st);
+            for (i, (p, r)) in px.iter().zip(&rays).enumerate() {
                 start(st, *p);
-                values.push(trace_from(scene, r, (hit, steps), st));
+                let (hit, steps) = hits[i];
+                values.push(match &points[i] {
+                    Some(s) if traceable(r, st) => {
+                        st.bvh_steps += steps as u64;
+                        lit(scene, r, s, (0, 1.0, Media::default()), &known[i], st)
+                    }
+                    _ => trace_from(scene, r, (hit, steps), st),
+                });
             }
         })?
     };
@@ -451,20 +477,36 @@ pub fn raybench(scene: &Scene, shadow: bool) -> (f64, f64, RayStats) {
     };
     let start = std::time::Instant::now();
     let w = cam.width;
-    let st2 = per_pixel(cam.width, cam.height, &job, Out::Own(&mut blocked), |x, y, st| {
-        let p = hits[(y * w + x) as usize];
-        if p.is_nan() {
-            return 0u8;
-        }
+    let time = scene.sampling.shutter[0];
+    // The forward shadow ray of the hit at `p`: from just off the surface
+    // to just short of the light.
+    let forward = |p: Vec3| {
         let (l, dist, _) = light.at(p);
         let eps = offset(p, Vec3::ZERO);
-        st.shadow += 1;
         let t_max = if dist.is_finite() { dist - 2.0 * eps } else { f32::INFINITY };
-        // Start on the light's side of the surface.
-        let origin = p + l * eps;
-        let ray = Ray::new(origin, l).at_time(scene.sampling.shutter[0]);
+        (Ray::new(p + l * eps, l).at_time(time), t_max)
+    };
+    // A block's shadow rays together, as `render` casts them.
+    let st2 = per_block(cam.width, cam.height, &job, Out::Own(&mut blocked), |px, st, values| {
+        let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO); PACKET];
+        let (mut t_max, mut m) = ([0.0; PACKET], 0);
+        for &(x, y) in px {
+            let p = hits[(y * w + x) as usize];
+            if !p.is_nan() {
+                (rays[m], t_max[m]) = forward(p);
+                m += 1;
+            }
+        }
+        st.shadow += m as u64;
+        let mut found = [Shadow::Unknown; PACKET];
         let last = &mut st.occluders[0];
-        (scene.transmittance_hinted(&ray, t_max, last, |_| Vec3::ZERO) == Vec3::ZERO) as u8
+        scene.bvh.shadow_packet(&rays[..m], &t_max[..m], last, |_| true, &mut found[..m]);
+        let mut k = 0;
+        for &(x, y) in px {
+            let hit = !hits[(y * w + x) as usize].is_nan();
+            values.push((hit && found[k] == Shadow::Blocked) as u8);
+            k += hit as usize;
+        }
     })
     .unwrap_or_default();
     stats.shadow = st2.shadow;
@@ -673,16 +715,161 @@ fn shade(
     {
         return m.ka * scene.ambient * m.color;
     }
-    let at = scene.locate(ray, hit);
-    let material = at.material;
+    let s = Shading::new(scene, ray, hit);
+    lit(scene, ray, &s, (depth, weight, media), &[], st)
+}
+
+/// The most lights whose shadow rays go in packets (the first of the
+/// scene's).
+const PACKET_LIGHTS: usize = 8;
+
+/// Whether a block's camera rays are shaded with the shadow rays of their
+/// hits in packets (`block_shadows`): when the tree is large enough for
+/// packets to pay (`Bvh::packs_shadows`), the scene has a light at one
+/// point (a light with a size casts several rays per point, each its own
+/// way) and no light camera rays can see (`seen` looks for those before
+/// shading). The picture is the same either way.
+fn packet_shadows(scene: &Scene) -> bool {
+    scene.bvh.packs_shadows()
+        && scene.emitters.is_empty()
+        && scene.lights.iter().take(PACKET_LIGHTS).any(packs)
+}
+
+/// Whether the shadow rays toward `light` go in packets: one ray per
+/// point, unjittered.
+fn packs(light: &crate::scene::Light) -> bool {
+    light.samples() == 1 && !light.is_visible()
+}
+
+/// For each of `points` (a block's shading points, of camera rays `rays`)
+/// and each of the first `PACKET_LIGHTS` lights, what the shadow ray `lit`
+/// would cast toward it meets, learned with those of the other points in
+/// one packet per light (`Bvh::shadow_packet`): the same answer as its
+/// own walk. `Unknown` where `lit` casts none, and where a surface that
+/// lets light through is met.
+fn block_shadows(
+    scene: &Scene,
+    rays: &[Ray],
+    points: &[Option<Shading>],
+    st: &mut RayStats,
+) -> [[Shadow; PACKET_LIGHTS]; PACKET] {
+    let mut known = [[Shadow::Unknown; PACKET_LIGHTS]; PACKET];
+    let opaque = |material: u32| scene.materials[material as usize].t <= 0.0;
+    for (j, light) in scene.lights.iter().enumerate().take(PACKET_LIGHTS) {
+        if !packs(light) {
+            continue;
+        }
+        let mut shadows = [Ray::new(Vec3::ZERO, Vec3::ZERO); PACKET];
+        let (mut t_max, mut which, mut m) = ([0.0; PACKET], [0u8; PACKET], 0);
+        for (i, (s, r)) in points.iter().zip(rays).enumerate().take(PACKET) {
+            let Some(s) = s else { continue };
+            let Some(sr) = shadow_ray(light, s, r, 0, (0.5, 0.5)) else { continue };
+            (shadows[m], t_max[m], which[m]) = (sr.ray, sr.t_max, i as u8);
+            m += 1;
+        }
+        let mut found = [Shadow::Unknown; PACKET];
+        let last = &mut st.occluders[j % OCCLUDERS];
+        scene.bvh.shadow_packet(&shadows[..m], &t_max[..m], last, opaque, &mut found[..m]);
+        for (&i, &f) in which[..m].iter().zip(&found) {
+            known[i as usize][j] = f;
+        }
+    }
+    known
+}
+
+/// The shadow ray `lit` casts from shading point `s` (hit by `ray`)
+/// toward sample `k` of `light` (jittered by `jitter`), and what it
+/// carries.
+struct ShadowRay {
+    /// The direction to the light from the hit point, the light arriving
+    /// there, and its cosine to the shading normal.
+    l: Vec3,
+    li: Vec3,
+    n_dot_l: f32,
+    /// The ray, over `(0, t_max)`.
+    ray: Ray,
+    t_max: f32,
+}
+
+/// `lit`'s shadow ray toward sample `k` of `light`, if it casts one (a
+/// light that gives nothing there, or is below the shading normal, needs
+/// none). A light below the facet but above the smooth surface is left to
+/// the shadow ray from the lifted point, not cut off here.
+#[inline(always)]
+fn shadow_ray(
+    light: &crate::scene::Light,
+    s: &Shading,
+    ray: &Ray,
+    k: u32,
+    jitter: (f32, f32),
+) -> Option<ShadowRay> {
+    let (l, dist, li) = light.sample_at(s.p, k, jitter);
+    let n_dot_l = s.look.normal.dot(l);
+    if li == Vec3::ZERO || n_dot_l <= 0.0 {
+        return None;
+    }
+    let (l_s, dist_s) = if s.lifted {
+        let (l_s, dist_s, _) = light.sample_at(s.shadow_origin, k, jitter);
+        (l_s, dist_s)
+    } else {
+        (l, dist)
+    };
+    // Stop short of the light by the same margin as the start.
+    let t_max = if dist_s.is_finite() { dist_s * (1.0 - 2.0 * OFFSET) } else { f32::INFINITY };
+    Some(ShadowRay { l, li, n_dot_l, ray: ray.spawn(s.shadow_origin, l_s), t_max })
+}
+
+/// What `shade` works out of a hit before its lights: the surface, how
+/// it looks there, and where its shadow rays leave from.
+struct Shading {
+    material: u32,
+    p: Vec3,
+    /// The ray's direction (unit).
+    d: Vec3,
+    ng: Vec3,
+    front: bool,
+    eps: f32,
+    look: Look,
+    shadow_origin: Vec3,
+    /// Whether shadow rays leave from a point lifted off the facet
+    /// (`terminator`), not from the hit point.
+    lifted: bool,
+}
+
+impl Shading {
+    #[inline(always)]
+    fn new(scene: &Scene, ray: &Ray, hit: &Hit) -> Shading {
+        let at = scene.locate(ray, hit);
+        let m = &scene.materials[at.material as usize];
+        let p = ray.at(hit.t);
+        let d = ray.dir.normalize();
+        let Surface { ng, ns, front, shadow_from } = surface(scene, &at, p, d);
+        let eps = offset(p, ray.origin);
+        let look = Look::at(scene, m, &at, (p, ray.origin), ns, front);
+        let lifted = shadow_from != p;
+        let shadow_origin =
+            if lifted { shadow_from + ng * offset(shadow_from, ray.origin) } else { p + ng * eps };
+        Shading { material: at.material, p, d, ng, front, eps, look, shadow_origin, lifted }
+    }
+}
+
+/// The colour of shading point `s` (hit by `ray`, `depth` bounces deep,
+/// of weight `weight`, travelling in `media`): its lights, and what it
+/// reflects and refracts. `known[i]`: what a shadow packet learned of the
+/// shadow ray toward light `i` (`block_shadows`).
+#[inline(always)]
+fn lit(
+    scene: &Scene,
+    ray: &Ray,
+    s: &Shading,
+    (depth, weight, media): (u32, f32, Media),
+    known: &[Shadow],
+    st: &mut RayStats,
+) -> Vec3 {
+    let Shading { material, p, d, ng, front, eps, ref look, .. } = *s;
     let m = &scene.materials[material as usize];
-    let p = ray.at(hit.t);
-    let d = ray.dir.normalize();
-    let Surface { ng, ns, front, shadow_from } = surface(scene, &at, p, d);
-    let eps = offset(p, ray.origin);
     let above = p + ng * eps;
     let view = -d;
-    let look = Look::at(scene, m, &at, (p, ray.origin), ns, front);
     let ns = look.normal;
     let colour = look.colour;
 
@@ -690,9 +877,6 @@ fn shade(
     if front {
         color += m.emission;
     }
-    let lifted = shadow_from != p;
-    let shadow_origin =
-        if lifted { shadow_from + ng * offset(shadow_from, ray.origin) } else { above };
     for (number, light) in scene.lights.iter().enumerate() {
         let samples = light.samples();
         // This shading point's stratified jitter for the lights with a size.
@@ -703,37 +887,26 @@ fn shade(
             } else {
                 (0.5, 0.5)
             };
-            // A light below the facet but above the smooth surface is left to
-            // the shadow ray from the lifted point, not cut off here.
-            let (l, dist, li) = light.sample_at(p, k, jitter);
-            if li == Vec3::ZERO {
+            let Some(ShadowRay { l, li, n_dot_l, ray: shadow, t_max }) =
+                shadow_ray(light, s, ray, k, jitter)
+            else {
                 continue;
-            }
-            let n_dot_l = ns.dot(l);
-            if n_dot_l <= 0.0 {
-                continue;
-            }
-            st.shadow += 1;
-            let (l_s, dist_s) = if lifted {
-                let (l_s, dist_s, _) = light.sample_at(shadow_origin, k, jitter);
-                (l_s, dist_s)
-            } else {
-                (l, dist)
             };
-            // Stop short of the light by the same margin as the start.
-            let t_max =
-                if dist_s.is_finite() { dist_s * (1.0 - 2.0 * OFFSET) } else { f32::INFINITY };
-            let shadow = ray.spawn(shadow_origin, l_s);
+            st.shadow += 1;
             let last = &mut st.occluders[number % OCCLUDERS];
-            let through = scene.transmittance_hinted(&shadow, t_max, last, |h| {
-                transmit(scene, &shadow, h, cone(scene, p, ray.origin))
-            });
+            let through = match known.get(number) {
+                Some(Shadow::Blocked) => Vec3::ZERO,
+                Some(Shadow::Clear) => Vec3::ONE,
+                _ => scene.transmittance_hinted(&shadow, t_max, last, |h| {
+                    transmit(scene, &shadow, h, cone(scene, p, ray.origin))
+                }),
+            };
             if through == Vec3::ZERO {
                 continue;
             }
             let mut c = m.kd * colour * li * n_dot_l;
             if m.ks > 0.0 {
-                c += m.ks * li * highlight(m, &look, l, view, n_dot_l);
+                c += m.ks * li * highlight(m, look, l, view, n_dot_l);
             }
             color += through * c;
         }

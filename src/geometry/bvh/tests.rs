@@ -529,6 +529,70 @@ fn occluder_hints_change_no_shadow() {
     assert!(foreign.kind.is_some() && foreign.block(&bvh).is_none());
 }
 
+/// Shadow rays in packets learn what each ray's own walk finds, to the
+/// bit: blocked where `transmittance` gives zero, clear where it gives one,
+/// unknown only where a surface that lets light through is crossed; in
+/// trees of either width, with packets narrow and wide, whole and
+/// partial, toward lights near and far, some with directions of mixed
+/// signs or without an end (which go one by one), and hints kept from
+/// packet to packet.
+#[test]
+fn shadow_packets_agree_with_transmittance() {
+    let mut seed = 29;
+    let mut shapes = random_scene(4000, &mut seed);
+    // Material 2 lets half the light through; 0 and 1 stop it.
+    for (i, s) in shapes.iter_mut().enumerate() {
+        let m = (i % 3) as u32;
+        match s {
+            Shape::Triangle(t) => t.material = m,
+            Shape::Sphere { material, .. } => *material = m,
+            Shape::Cone(c) => c.material = m,
+            _ => {}
+        }
+    }
+    let opaque = |m: u32| m != 2;
+    let pass = |h: ShadowHit| if opaque(h.material) { Vec3::ZERO } else { Vec3::splat(0.5) };
+    for width in [Width::Four, Width::Eight] {
+        let bvh = Bvh::build_wide(shapes.len(), |i| shapes[i], Vec::new(), width);
+        let (mut packets, mut seen) = (0, [0u32; 3]);
+        let mut last = Occluder::NONE;
+        for k in 0..400 {
+            let mut p = || Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed));
+            let base = p() * 10.0;
+            let light = [p() * 14.0 - 2.0, p() * 200.0 - 100.0, base + p() * 0.5][k % 3];
+            let spread = [0.01, 0.1, 1.0, 4.0][k % 4];
+            let n = [64, 64, 37, 5][k % 4];
+            let rays: Vec<Ray> = (0..n)
+                .map(|_| {
+                    let o = base + (p() - 0.5) * spread;
+                    Ray::new(o, (light - o).normalize())
+                })
+                .collect();
+            let far = k % 10 == 9;
+            let t_max: Vec<f32> = rays
+                .iter()
+                .map(|r| if far { f32::INFINITY } else { (light - r.origin).length() * 0.999 })
+                .collect();
+            packets += Segments::new(&rays, &t_max).is_some() as u32;
+            let mut out = vec![Shadow::Unknown; n];
+            bvh.shadows(&rays, &t_max, &mut last, &opaque, &mut out, true);
+            for ((r, &t), &s) in rays.iter().zip(&t_max).zip(&out) {
+                let alone = bvh.transmittance(r, 0.0, t, pass);
+                let bits = alone.to_array().map(f32::to_bits);
+                match s {
+                    Shadow::Blocked => assert_eq!(bits, [0; 3], "{width:?} packet {k}: {r:?}"),
+                    Shadow::Clear => assert_eq!(bits, [1f32.to_bits(); 3], "{width:?} {k}: {r:?}"),
+                    Shadow::Unknown => assert_ne!(alone, Vec3::ONE, "{width:?} {k}: {r:?}"),
+                }
+                seen[s as usize] += 1;
+            }
+        }
+        // Most packets went together, and every answer came up.
+        assert!(packets > 200, "{packets}");
+        assert!(seen.iter().all(|&c| c > 500), "{seen:?}");
+    }
+}
+
 /// The wide nodes made from the binary tree have the least sum of areas of
 /// every way of covering it (checked against all the covers, listed one by
 /// one), and never more than opening the largest child first, the rule the
