@@ -17,7 +17,8 @@
 //!   `bvh::Plan`, into 8-wide nodes where the CPU has AVX2, else 4-wide:
 //!   `bvh::wide`) whose leaves hold blocks of four primitives tested in
 //!   SIMD lanes (`blocks`: coordinates only; a record per lane), walked
-//!   by single rays or by packets of camera rays (`bvh::packet`), and
+//!   by single rays, by packets of camera rays (`bvh::packet`) or of
+//!   shadow rays toward one light (`bvh::shadow`), and
 //!   objects, leaves of their own kind (`object`): placed
 //!   analytic solids (`solid`, with `poly`'s root finder for the torus),
 //!   CSG by intervals (`csg`), blobs (`blob`), lazily generated fractals
@@ -65,7 +66,8 @@
 //!   arithmetic lane for lane: the same hits, to the bit.
 //! - A packet of rays finds each ray's hit as the ray alone does, to the
 //!   bit: its node test is conservative to the bit, its leaf tests are the
-//!   single ray's.
+//!   single ray's. A shadow packet's answer (blocked, clear) is the ray's
+//!   own walk's, so whether a block goes as a packet changes no pixel.
 //! - The builder keeps positions in double precision; a frozen `Scene` is
 //!   single precision with the eye at the origin, and no tolerance in the
 //!   renderer is absolute: the picture does not depend on where the scene

@@ -715,8 +715,7 @@ fn shade(
     {
         return m.ka * scene.ambient * m.color;
     }
-    let s = Shading::new(scene, ray, hit);
-    lit(scene, ray, &s, (depth, weight, media), &[], st)
+    lit(scene, ray, &Shading::new(scene, ray, hit), (depth, weight, media), &[], st)
 }
 
 /// The most lights whose shadow rays go in packets (the first of the
