@@ -251,36 +251,8 @@ pub fn render_into(scene: &Scene, job: &Job, buf: Vec<Vec3>) -> Option<(Image, R
                 *r = ray(p);
             }
             scene.intersect_packet(&rays[..n], &mut hits[..n]);
-            if !packet_shadows(scene) {
-                for ((p, r), &(hit, steps)) in px.iter().zip(&rays).zip(&hits) {
-                    start(st, *p);
-                    values.push(trace_from(scene, r, (hit, steps), st));
-                }
-                return;
-            }
-            // The hits' shading points first, then their shadow rays toward
-            // each point light together, then the rest of their shading.
-            let mut points = [const { None::<Shading> }; PACKET];
-            for ((s, r), (hit, _)) in points.iter_mut().zip(&rays[..n]).zip(&hits) {
-                if let Some(h) = hit
-                    && r.origin.is_finite()
-                    && r.dir.is_finite()
-                {
-                    *s = Some(Shading::new(scene, r, h));
-                }
-            }
-            let known = block_shadows(scene, &rays[..n], &points[..n], st);
-            for (i, (p, r)) in px.iter().zip(&rays).enumerate() {
-                start(st, *p);
-                let (hit, steps) = hits[i];
-                values.push(match &points[i] {
-                    Some(s) if traceable(r, st) => {
-                        st.bvh_steps += steps as u64;
-                        lit(scene, r, s, (0, 1.0, Media::default()), &known[i], st)
-                    }
-                    _ => trace_from(scene, r, (hit, steps), st),
-                });
-            }
+            let begin = |i: usize, st: &mut RayStats| start(st, px[i]);
+            shade_packet(scene, (&rays[..n], &hits[..n]), st, begin, |_, c| values.push(c));
         })?
     };
     // The picture itself, not a copy of it (64 Mpixel are 768 MiB).
@@ -289,6 +261,54 @@ pub fn render_into(scene: &Scene, job: &Job, buf: Vec<Vec3>) -> Option<(Image, R
         Some(c) => c.lock().unwrap_or_else(|e| e.into_inner()).clone(),
     };
     Some((Image { width: r.width(), height: r.height(), pixels }, stats))
+}
+
+/// The colours seen along camera rays `rays`, whose closest hits (and
+/// steps) `hits` were found together (`Scene::intersect_packet`), by the
+/// Whitted tracer: `begin(i, st)` starts ray `i`'s count and random numbers,
+/// then `done(i, colour)` takes its colour, in order. Where the shadow
+/// rays of the hits go in packets (`packet_shadows`), every hit's shading
+/// point is worked out first, then the shadow rays toward each light of
+/// one point together (`block_shadows`), then the rest of the shading:
+/// the same colours as shading each ray alone, to the bit.
+#[inline(always)]
+fn shade_packet(
+    scene: &Scene,
+    (rays, hits): (&[Ray], &[(Option<Hit>, u32)]),
+    st: &mut RayStats,
+    mut begin: impl FnMut(usize, &mut RayStats),
+    mut done: impl FnMut(usize, Vec3),
+) {
+    let n = rays.len().min(hits.len()).min(PACKET);
+    if !packet_shadows(scene) {
+        for (i, (r, &found)) in rays.iter().zip(hits).enumerate().take(n) {
+            begin(i, st);
+            done(i, trace_from(scene, r, found, st));
+        }
+        return;
+    }
+    let mut points = [const { None::<Shading> }; PACKET];
+    for ((s, r), (hit, _)) in points.iter_mut().zip(&rays[..n]).zip(hits) {
+        if let Some(h) = hit
+            && r.origin.is_finite()
+            && r.dir.is_finite()
+        {
+            *s = Some(Shading::new(scene, r, h));
+        }
+    }
+    let known = block_shadows(scene, &rays[..n], &points[..n], st);
+    for (i, r) in rays.iter().enumerate().take(n) {
+        begin(i, st);
+        let (hit, steps) = hits[i];
+        let c = match &points[i] {
+            Some(s) if traceable(r, st) => {
+                st.bvh_steps += steps as u64;
+                lit(scene, r, s, (0, 1.0, Media::default()), &known[i], st)
+            }
+            _ => trace_from(scene, r, (hit, steps), st),
+        };
+        done(i, c);
+    }
 }
 
 /// A pixel traced in several camera rays, in batches: the first of
@@ -322,6 +342,9 @@ impl Pixel {
         if self.n == 0 {
             self.n = sampling.samples;
         }
+        // Without a lens, a batch's camera rays leave one point: the
+        // Whitted tracer finds their hits as one packet (the same hits).
+        let together = sampling.integrator == Integrator::Whitted && !cam.has_lens();
         loop {
             if self.acc.count >= until {
                 return (self.acc.value(), false);
@@ -331,20 +354,40 @@ impl Pixel {
             // Image points, lens points and times from three patterns,
             // stratified each.
             let (pattern, lens_pattern) = (key as u32, (key >> 32) as u32);
-            let (u, v) = sample::cmj(s, n, pattern);
-            let ((dx, wx), (dy, wy)) = (table.sample(u), table.sample(v));
+            // The rest of the batch, as far as this pass goes.
+            let todo = (n - s).min(until - self.acc.count).min(PACKET as u32) as usize;
+            let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO); PACKET];
+            let mut weights = [0.0; PACKET];
+            for (j, (ray, w)) in rays.iter_mut().zip(&mut weights).take(todo).enumerate() {
+                let s = s + j as u32;
+                let (u, v) = sample::cmj(s, n, pattern);
+                let ((dx, wx), (dy, wy)) = (table.sample(u), table.sample(v));
+                let (lu, lv) =
+                    if cam.has_lens() { sample::cmj(s, n, lens_pattern) } else { (0.5, 0.5) };
+                let time = if sampling.has_shutter() {
+                    t0 + (t1 - t0) * sample::cmj(s, n, sample::mix(key ^ TIME) as u32).0
+                } else {
+                    t0
+                };
+                *ray = cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv).at_time(time);
+                *w = wx * wy;
+            }
             // The cap on rays is per camera ray.
-            st.start(sample::mix(key ^ (s as u64) << 32));
-            let (lu, lv) =
-                if cam.has_lens() { sample::cmj(s, n, lens_pattern) } else { (0.5, 0.5) };
-            let time = if sampling.has_shutter() {
-                t0 + (t1 - t0) * sample::cmj(s, n, sample::mix(key ^ TIME) as u32).0
-            } else {
-                t0
+            let begin = |j: usize, st: &mut RayStats| {
+                st.start(sample::mix(key ^ ((s + j as u32) as u64) << 32));
             };
-            let ray = cam.lens_ray(x as f32 + 0.5 + dx, y as f32 + 0.5 + dy, lu, lv).at_time(time);
-            self.acc.add(camera_ray(scene, &ray, st), wx * wy);
-            self.s += 1;
+            if together && todo >= 2 {
+                let mut hits = [(None, 0); PACKET];
+                scene.intersect_packet(&rays[..todo], &mut hits[..todo]);
+                let done = |j: usize, c| self.acc.add(c, weights[j]);
+                shade_packet(scene, (&rays[..todo], &hits[..todo]), st, begin, done);
+            } else {
+                for (j, ray) in rays.iter().enumerate().take(todo) {
+                    begin(j, st);
+                    self.acc.add(camera_ray(scene, ray, st), weights[j]);
+                }
+            }
+            self.s += todo as u32;
             if self.s == n {
                 if sampling.adaptive.is_none() && sampling.noise_target.is_none() {
                     return (self.acc.value(), true);
@@ -1164,6 +1207,97 @@ const TIR: f32 = 1.0;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A scene big enough for shadow packets (`Bvh::packs_shadows`): a
+    /// wavy ground of 33,800 triangles, half smooth (so shadow rays leave
+    /// from lifted points) and half flat, under an opaque ball and a glass
+    /// one, lit by two point lights, a spot light and a parallel light.
+    fn packed() -> Scene {
+        use crate::scene::{Builder, Falloff, Light};
+        use glam::DVec3;
+        let mut b = Builder::new();
+        b.camera_from(DVec3::new(0.0, 7.0, 11.0)).unwrap();
+        b.camera_target(DVec3::new(0.0, 0.5, 0.0)).unwrap();
+        b.camera_angle(40.0).unwrap();
+        b.camera_resolution(48, 40).unwrap();
+        b.set_ambient(Vec3::splat(0.1)).unwrap();
+        let sq = Falloff::INVERSE_SQUARE;
+        let lights = [
+            Light::point(Vec3::splat(30.0), DVec3::new(3.0, 8.0, 4.0), sq),
+            Light::point(Vec3::new(10.0, 8.0, 6.0), DVec3::new(-5.0, 3.0, -2.0), sq),
+            Light::spot(Vec3::splat(40.0), DVec3::new(0.0, 9.0, 0.0), -Vec3::Y, 20.0, 30.0, sq),
+            Light::parallel(Vec3::splat(0.3), Vec3::new(-1.0, -1.0, -0.5)),
+        ];
+        for l in lights {
+            b.add_light(l.unwrap()).unwrap();
+        }
+        let m = |color, ks, t, ior| Material { color, ks, ns: 20.0, t, ior, ..Material::default() };
+        b.set_material(m(Vec3::new(0.8, 0.7, 0.6), 0.3, 0.0, 1.0)).unwrap();
+        let n = 130i64;
+        for i in 0..=n {
+            for j in 0..=n {
+                let (x, z) = (i as f64 * 16.0 / n as f64 - 8.0, j as f64 * 16.0 / n as f64 - 8.0);
+                b.vertex(DVec3::new(x, 0.3 * x.sin() * z.cos(), z)).unwrap();
+                let (nx, nz) = (-0.3 * x.cos() * z.cos(), 0.3 * x.sin() * z.sin());
+                b.normal(Vec3::new(nx as f32, 1.0, nz as f32)).unwrap();
+            }
+        }
+        for i in 0..n {
+            for j in 0..n {
+                let a = i * (n + 1) + j;
+                let (b1, c, d) = (a + 1, a + n + 1, a + n + 2);
+                if i < n / 2 {
+                    b.ntri([(a, a), (b1, b1), (d, d)]).unwrap();
+                    b.ntri([(a, a), (d, d), (c, c)]).unwrap();
+                } else {
+                    b.tri([a, b1, d]).unwrap();
+                    b.tri([a, d, c]).unwrap();
+                }
+            }
+        }
+        b.sphere(DVec3::new(1.5, 1.2, 1.0), 0.8).unwrap();
+        b.set_material(m(Vec3::new(0.5, 0.6, 0.9), 0.2, 0.6, 1.3)).unwrap();
+        b.sphere(DVec3::new(-1.5, 1.4, 0.0), 1.0).unwrap();
+        Scene::freeze(&b).unwrap()
+    }
+
+    /// A block's camera rays shaded with their shadow rays in packets get
+    /// the colours each gets shaded alone, to the bit; and the packets do
+    /// settle shadow rays, blocked and clear.
+    #[test]
+    fn shadow_packets_shade_as_single_rays() {
+        let scene = packed();
+        assert!(scene.bvh.packs_shadows() && packet_shadows(&scene));
+        let cam = &scene.camera;
+        let (mut settled, mut blocked) = (0, 0);
+        for (bx, by) in
+            (0..cam.height).step_by(8).flat_map(|y| (0..cam.width).step_by(8).map(move |x| (x, y)))
+        {
+            let rays: Vec<Ray> = (0..64).map(|k| cam.ray(bx + k % 8, by + k / 8)).collect();
+            let mut hits = vec![(None, 0); 64];
+            scene.intersect_packet(&rays, &mut hits);
+            let (mut st, mut together) = (RayStats::default(), Vec::new());
+            let begin = |i: usize, st: &mut RayStats| st.start(i as u64);
+            shade_packet(&scene, (&rays, &hits), &mut st, begin, |_, c| together.push(c));
+            let mut st = RayStats::default();
+            for (i, (r, &found)) in rays.iter().zip(&hits).enumerate() {
+                st.start(i as u64);
+                let alone = trace_from(&scene, r, found, &mut st);
+                let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+                assert_eq!(bits(together[i]), bits(alone), "block ({bx}, {by}), ray {i}");
+            }
+            let points: Vec<Option<Shading>> = rays
+                .iter()
+                .zip(&hits)
+                .map(|(r, (h, _))| h.as_ref().map(|h| Shading::new(&scene, r, h)))
+                .collect();
+            for k in block_shadows(&scene, &rays, &points, &mut st).iter().flatten() {
+                settled += (*k != Shadow::Unknown) as u32;
+                blocked += (*k == Shadow::Blocked) as u32;
+            }
+        }
+        assert!(blocked > 100 && settled - blocked > 1000, "{blocked} blocked of {settled}");
+    }
 
     #[test]
     fn mirror_and_snell() {
