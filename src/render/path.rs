@@ -33,7 +33,7 @@ use super::sample;
 use super::tracer::{
     Look, Media, OCCLUDERS, OFFSET, RayStats, Surface, highlight, offset, reflect, refract, surface,
 };
-use crate::geometry::{Local, Ray};
+use crate::geometry::{Hit, Local, Ray};
 use crate::scene::Scene;
 use crate::scene::emitters::{self, Emitter};
 
@@ -72,6 +72,17 @@ fn cosine_dir(n: Vec3, (a, b): (f32, f32)) -> Vec3 {
 
 /// The radiance arriving along the camera ray `ray`.
 pub fn radiance(scene: &Scene, camera_ray: &Ray, st: &mut RayStats) -> Vec3 {
+    radiance_from(scene, camera_ray, None, st)
+}
+
+/// `radiance`, given the camera ray's closest hit (and steps) when it was
+/// found already, in a packet.
+pub(super) fn radiance_from(
+    scene: &Scene,
+    camera_ray: &Ray,
+    mut first: Option<(Option<Hit>, u32)>,
+    st: &mut RayStats,
+) -> Vec3 {
     let set = &scene.emitters_set;
     let (mut total, mut beta) = (Vec3::ZERO, Vec3::ONE);
     let mut ray = *camera_ray;
@@ -83,7 +94,7 @@ pub fn radiance(scene: &Scene, camera_ray: &Ray, st: &mut RayStats) -> Vec3 {
         if !(ray.origin.is_finite() && ray.dir.is_finite() && ray.dir != Vec3::ZERO) {
             break;
         }
-        let (hit, steps) = scene.intersect(&ray);
+        let (hit, steps) = first.take().unwrap_or_else(|| scene.intersect(&ray));
         st.bvh_steps += steps as u64;
         let scale = ray.dir.length();
         let d = ray.dir / scale;

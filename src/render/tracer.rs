@@ -342,9 +342,9 @@ impl Pixel {
         if self.n == 0 {
             self.n = sampling.samples;
         }
-        // Without a lens, a batch's camera rays leave one point: the
-        // Whitted tracer finds their hits as one packet (the same hits).
-        let together = sampling.integrator == Integrator::Whitted && !cam.has_lens();
+        // Without a lens, a batch's camera rays leave one point: their
+        // hits are found as one packet (the same hits).
+        let together = !cam.has_lens();
         loop {
             if self.acc.count >= until {
                 return (self.acc.value(), false);
@@ -379,8 +379,16 @@ impl Pixel {
             if together && todo >= 2 {
                 let mut hits = [(None, 0); PACKET];
                 scene.intersect_packet(&rays[..todo], &mut hits[..todo]);
-                let done = |j: usize, c| self.acc.add(c, weights[j]);
-                shade_packet(scene, (&rays[..todo], &hits[..todo]), st, begin, done);
+                if sampling.integrator == Integrator::Whitted {
+                    let done = |j: usize, c| self.acc.add(c, weights[j]);
+                    shade_packet(scene, (&rays[..todo], &hits[..todo]), st, begin, done);
+                } else {
+                    for (j, ray) in rays.iter().enumerate().take(todo) {
+                        begin(j, st);
+                        let c = super::path::radiance_from(scene, ray, Some(hits[j]), st);
+                        self.acc.add(c, weights[j]);
+                    }
+                }
             } else {
                 for (j, ray) in rays.iter().enumerate().take(todo) {
                     begin(j, st);
