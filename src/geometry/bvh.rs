@@ -1484,7 +1484,11 @@ fn split_on<const A: usize, const K: usize>(
         // (x ≥ lo, so the bin is never negative. Clamped as a float and
         // converted to i32: the saturating conversion to usize was 12% of
         // the split's instructions.)
-        ((x - lo) * scale).min((BINS - 1) as f32) as i32 as usize
+        // Floor by the float adder: v - 0.5 + 1.5·2^23 rounds to the
+        // nearest integer, floor(v) (a centroid on a boundary may go either
+        // way), which the low mantissa bits hold: no conversion checks.
+        let v = ((x - lo) * scale).min(BINS as f32 - 0.501);
+        ((v - 0.5 + 12582912.0).to_bits() & 0xff) as usize
     };
     let bins = if prims.len() >= PARALLEL_BUILD {
         prims
