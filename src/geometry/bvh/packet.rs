@@ -93,12 +93,12 @@ impl Rays {
 /// A packet walk's stack entry: a child, where the packet may enter it,
 /// and the node and slot it hangs from (where a leaf's box is).
 #[derive(Clone, Copy)]
-struct PacketEntry {
-    child: u32,
-    count: u32,
-    t: f32,
-    node: u32,
-    slot: u32,
+pub(super) struct PacketEntry {
+    pub(super) child: u32,
+    pub(super) count: u32,
+    pub(super) t: f32,
+    pub(super) node: u32,
+    pub(super) slot: u32,
 }
 
 impl Distance for PacketEntry {
@@ -112,14 +112,38 @@ impl Distance for PacketEntry {
 /// test's), made at the first leaf it reaches. Kept by each thread from
 /// packet to packet, every entry `None` in between (a packet puts back
 /// those its rays made), so a packet does not clear 18 KiB that most of
-/// its rays never touch: camera rays mostly miss a framed model.
-struct Scratch {
-    pre: [Option<Pre4>; PACKET],
-    slabs: [Option<Slabs4>; PACKET],
+/// its rays never touch: camera rays mostly miss a framed model. Shadow
+/// packets (`shadow`) use it too.
+pub(super) struct Scratch {
+    pub(super) pre: [Option<Pre4>; PACKET],
+    pub(super) slabs: [Option<Slabs4>; PACKET],
+}
+
+impl Scratch {
+    /// The thread's scratch, every entry `None` (a new one inside a walk
+    /// that holds it already).
+    pub(super) fn take() -> Box<Scratch> {
+        SCRATCH.take().unwrap_or_else(|| {
+            Box::new(Scratch { pre: [const { None }; PACKET], slabs: [const { None }; PACKET] })
+        })
+    }
+
+    /// Gives the scratch back to the thread, putting back to `None` the
+    /// entries of the rays in `used` (bit i: ray i).
+    pub(super) fn put(mut self: Box<Scratch>, mut used: u64) {
+        while used != 0 {
+            let i = used.trailing_zeros() as usize & (PACKET - 1);
+            used &= used - 1;
+            (self.pre[i], self.slabs[i]) = (None, None);
+        }
+        SCRATCH.set(Some(self));
+    }
 }
 
 thread_local! {
-    static STACK: Cell<Vec<PacketEntry>> = const { Cell::new(Vec::new()) };
+    /// The packet walks' stack, as `traverse`'s (camera and shadow
+    /// packets alike).
+    pub(super) static STACK: Cell<Vec<PacketEntry>> = const { Cell::new(Vec::new()) };
     static SCRATCH: Cell<Option<Box<Scratch>>> = const { Cell::new(None) };
 }
 
@@ -154,9 +178,7 @@ impl Bvh {
                 self.objects_hit(&self.unbounded, r, t_min, &mut far[i], &mut consider);
             }
         }
-        let mut scratch = SCRATCH.take().unwrap_or_else(|| {
-            Box::new(Scratch { pre: [const { None }; PACKET], slabs: [const { None }; PACKET] })
-        });
+        let mut scratch = Scratch::take();
         let Scratch { pre, slabs } = &mut *scratch;
         // The rays that reached a leaf (and may have made constants).
         let mut used = 0u64;
@@ -193,12 +215,7 @@ impl Bvh {
             }
         };
         STACK.set(stack);
-        while used != 0 {
-            let i = used.trailing_zeros() as usize & (PACKET - 1);
-            used &= used - 1;
-            (pre[i], slabs[i]) = (None, None);
-        }
-        SCRATCH.set(Some(scratch));
+        scratch.put(used);
         let share = nodes / n as u32;
         for (i, o) in out.iter_mut().enumerate() {
             *o = (c[i].best, steps[i] + share);

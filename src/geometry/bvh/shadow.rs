@@ -30,15 +30,13 @@
 //! is the camera packets' interval test of Wald, Boulos and Shirley, 2007,
 //! from another apex.)
 
-use std::cell::Cell;
-
 use glam::{Vec3, Vec4};
 
 use super::super::aabb::ROBUST;
 use super::super::blocks::{self, Block};
 #[cfg(target_arch = "x86_64")]
 use super::Avx2;
-use super::packet::PACKET;
+use super::packet::{PACKET, PacketEntry, STACK, Scratch};
 use super::wide::{Frustum, Kernel, Slots, inv, near_planes};
 use super::{BlockKind, Bvh, Four, Leaf, Nodes, Occluder, Pre4, Ray, ShadowHit, Slabs4, Slot};
 
@@ -175,18 +173,6 @@ impl Segments {
     }
 }
 
-/// Each ray's leaf-test constants, made at the first leaf it reaches (as
-/// the camera packets' scratch), kept by each thread.
-struct Scratch {
-    pre: [Option<Pre4>; PACKET],
-    slabs: [Option<Slabs4>; PACKET],
-}
-
-thread_local! {
-    static STACK: Cell<Vec<[u32; 4]>> = const { Cell::new(Vec::new()) };
-    static SCRATCH: Cell<Option<Box<Scratch>>> = const { Cell::new(None) };
-}
-
 impl Bvh {
     /// Whether shadow rays go in packets in this tree (`FEWEST_PRIMITIVES`;
     /// the answers are the same either way).
@@ -227,9 +213,7 @@ impl Bvh {
         let n = rays.len().min(PACKET);
         let found =
             |h: ShadowHit| if opaque(h.material) { Shadow::Blocked } else { Shadow::Unknown };
-        let mut scratch = SCRATCH.take().unwrap_or_else(|| {
-            Box::new(Scratch { pre: [const { None }; PACKET], slabs: [const { None }; PACKET] })
-        });
+        let mut scratch = Scratch::take();
         let Scratch { pre, slabs } = &mut *scratch;
         // The rays that made constants (put back to `None` at the end).
         let mut used = 0u64;
@@ -291,12 +275,7 @@ impl Bvh {
                 self.shadow_walk(rays, &p, &mut far, (pre, slabs), &mut used, last, &found, out);
             }
         }
-        while used != 0 {
-            let i = used.trailing_zeros() as usize & (PACKET - 1);
-            used &= used - 1;
-            (pre[i], slabs[i]) = (None, None);
-        }
-        SCRATCH.set(Some(scratch));
+        scratch.put(used);
     }
 
     /// The packet walk of `shadow_packet`: the rays whose `t_max` is not
@@ -432,7 +411,7 @@ impl Bvh {
         &self,
         kernel: K,
         nodes: &[K::Node],
-        stack: &mut Vec<[u32; 4]>,
+        stack: &mut Vec<PacketEntry>,
         p: &Segments,
         t_max: &mut [f32; PACKET],
         mut leaf: impl FnMut(usize, &Leaf, &mut f32),
@@ -443,8 +422,9 @@ impl Bvh {
             .iter()
             .enumerate()
             .fold(0u64, |m, (i, &t)| m | ((t != f32::NEG_INFINITY) as u64) << i);
-        stack.push([0, 0, 0, 0]);
-        while let Some([child, count, node, slot]) = stack.pop() {
+        // (Entries' `t` unused: no order among children.)
+        stack.push(PacketEntry { child: 0, count: 0, t: 0.0, node: 0, slot: 0 });
+        while let Some(PacketEntry { child, count, node, slot, .. }) = stack.pop() {
             if count == 0 {
                 let n = &nodes[child as usize];
                 let (mut mask, _) = kernel.hit_frustum(n, &cone, 0.0, reach);
@@ -455,7 +435,13 @@ impl Bvh {
                     let s = mask.trailing_zeros() as usize & (K::Node::N - 1);
                     mask &= mask - 1;
                     let (c, k) = n.child(s);
-                    stack.push([c, k, child, s as u32]);
+                    stack.push(PacketEntry {
+                        child: c,
+                        count: k,
+                        t: 0.0,
+                        node: child,
+                        slot: s as u32,
+                    });
                 }
                 continue;
             }
