@@ -688,6 +688,7 @@ pub(super) struct Surface {
 /// worked out in the primitive's own coordinates, then turned to the
 /// world's (normals by the inverse transpose; the side a ray arrives from
 /// is the same in both).
+#[inline]
 pub(super) fn surface(scene: &Scene, at: &Located, p: Vec3, d: Vec3) -> Surface {
     let (p_l, d_l) = match at.to_local {
         None => (p, d),

@@ -28,9 +28,9 @@ pub struct Scene {
     /// Whether `bvh` is an earlier render's (`freeze_reusing`).
     pub reused: bool,
     pub materials: Vec<Material>,
-    pub normals: Vec<Vec3>,
+    pub normals: Arc<Vec<Vec3>>,
     /// Texture coordinates beside `normals` (see `Builder::uvs`).
-    pub uvs: Vec<[f32; 2]>,
+    pub uvs: Arc<Vec<[f32; 2]>>,
     pub lights: Vec<Light>,
     /// The lights camera and reflected rays can see (those with a size).
     pub emitters: Vec<Light>,

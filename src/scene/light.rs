@@ -169,7 +169,17 @@ impl Light {
     /// expressed as a point light's number (radiance L over area A at
     /// distance r and angle θ to the light's normal arrives as
     /// L·A·cos θ/(π·r²)); the other lights ignore `k` and the jitter.
-    pub fn sample_at(&self, p: Vec3, k: u32, (a, b): (f32, f32)) -> (Vec3, f32, Vec3) {
+    #[inline]
+    pub fn sample_at(&self, p: Vec3, k: u32, jitter: (f32, f32)) -> (Vec3, f32, Vec3) {
+        match *self {
+            Light::Area { .. } | Light::Sphere { .. } => self.sample_sized(p, k, jitter),
+            _ => self.at(p),
+        }
+    }
+
+    /// `sample_at` for the lights with a size (out of line: the point
+    /// lights' path is inlined into the shaders).
+    fn sample_sized(&self, p: Vec3, k: u32, (a, b): (f32, f32)) -> (Vec3, f32, Vec3) {
         match *self {
             Light::Area { radiance, corner, u, v, n } => {
                 let (i, j) = ((k % n) as f32, (k / n) as f32);
@@ -211,7 +221,7 @@ impl Light {
                 let share = 2.0 * (1.0 - cos_max) / (n * n) as f32;
                 (l, r, radiance * share)
             }
-            _ => self.at(p),
+            _ => unreachable!("sample_sized of a light without a size"),
         }
     }
 
@@ -298,6 +308,7 @@ impl Light {
 
     /// For a point `p`: the unit direction towards the light, the distance
     /// to it (infinite for parallel lights) and the light arriving there.
+    #[inline]
     pub fn at(&self, p: Vec3) -> (Vec3, f32, Vec3) {
         match *self {
             Light::Parallel { color, dir } => (-dir, f32::INFINITY, color),

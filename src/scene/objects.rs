@@ -8,6 +8,8 @@
 //! Other shapes are objects: a solid in its canonical coordinates and the
 //! transform that places it.
 
+use std::sync::Arc;
+
 use glam::{DAffine3, DMat3, DVec3, Vec3};
 
 use super::builder::{Builder, Prim, SceneError, position};
@@ -624,7 +626,8 @@ impl Builder {
                 let nb = self.normals.len() as u32;
                 for k in n {
                     let w = (normal * self.normals[k as usize].as_dvec3()).normalize_or_zero();
-                    self.normals.push(if w == DVec3::ZERO { Vec3::Y } else { w.as_vec3() });
+                    let w = if w == DVec3::ZERO { Vec3::Y } else { w.as_vec3() };
+                    Arc::make_mut(&mut self.normals).push(w);
                 }
                 [nb, nb + 1, nb + 2]
             }

@@ -804,8 +804,10 @@ fn render_command(
     if unchanged {
         let mut out = super::AtomicFile::create(path).map_err(write_err)?;
         let mut st = state.borrow_mut();
+        let st = &mut *st;
         let img = &st.last_picture.as_ref().expect("checked above").image;
-        img.write_placed(out.writer(), format, enc, placement, &interrupted).map_err(write_err)?;
+        img.write_placed(out.writer(), format, enc, placement, &interrupted, &mut st.bytes)
+            .map_err(write_err)?;
         out.commit().map_err(write_err)?;
         let (w, h) = (img.width, img.height);
         st.feedback.finished(&super::feedback::Finished {
@@ -852,7 +854,8 @@ fn render_command(
         render::apply_look(&scene.sampling, &mut img);
     }
     let render_seconds = start.elapsed().as_secs_f64();
-    img.write_placed(out.writer(), format, enc, placement, &interrupted).map_err(write_err)?;
+    img.write_placed(out.writer(), format, enc, placement, &interrupted, &mut st.bytes)
+        .map_err(write_err)?;
     out.commit().map_err(write_err)?;
     st.feedback.show_final(&img.pixels, img.width, img.height);
     st.feedback.finished(&super::feedback::Finished {

@@ -20,6 +20,9 @@ pub struct ShellState {
     /// The last picture traced, so rendering an unchanged scene again
     /// writes it without tracing.
     pub last_picture: Option<Picture>,
+    /// The bytes of the last picture written, the next one's buffer
+    /// (`Image::to_rgb8_into`).
+    pub bytes: Vec<u8>,
     /// How many times this session traced its scene (`render`,
     /// `raybench`): none means a script built a scene and never looked.
     pub renders: usize,
@@ -54,6 +57,7 @@ impl Default for ShellState {
             feedback: Feedback::new(ProgressMode::Auto),
             pools: Vec::new(),
             last_picture: None,
+            bytes: Vec::new(),
             renders: 0,
             tree: None,
         }
