@@ -1552,12 +1552,13 @@ fn split_on<const A: usize, const K: usize>(
     if prims.len() <= MAX_LEAF && split_cost >= leaf_cost(prims) {
         return Split::Leaf;
     }
+    // Without a branch on the side (which mispredicts): every element is
+    // swapped with the boundary's, which moves only on the left side.
     let mut i = 0;
     for j in 0..prims.len() {
-        if bin_of(prims[j].centroid2()) <= best.1 {
-            prims.swap(i, j);
-            i += 1;
-        }
+        let left = bin_of(prims[j].centroid2()) <= best.1;
+        prims.swap(i, j);
+        i += left as usize;
     }
     if i == 0 || i == prims.len() {
         return Split::Inner(prims.len() / 2, None);
