@@ -70,7 +70,13 @@ impl Scene {
         let reused = tree.is_some();
         let bvh = tree.unwrap_or_else(|| {
             let mut groups = vec![None; b.groups.len()];
-            Arc::new(freeze_level(b, &b.prims, &b.motion, &b.objects, b.from, &mut groups))
+            // On one of the pool's threads, not the caller's: the build's
+            // serial steps then run there, and its parallel ones start
+            // from within the pool instead of each being handed over to
+            // it and waited for (a 69k-triangle build 11-12 -> 9 ms).
+            Arc::new(rayon::scope(|_| {
+                freeze_level(b, &b.prims, &b.motion, &b.objects, b.from, &mut groups)
+            }))
         });
         let degenerate = bvh.degenerate;
         let sky = match &b.environment {
