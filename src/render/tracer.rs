@@ -702,6 +702,7 @@ pub(super) fn surface(scene: &Scene, at: &Located, p: Vec3, d: Vec3) -> Surface 
     Surface { ng: turn(local.ng), ns: turn(local.ns), front: local.front, shadow_from }
 }
 
+#[inline(always)]
 fn surface_local(scene: &Scene, at: &Located, p: Vec3, d: Vec3) -> Surface {
     let (ng_out, ns_out, vertex_normals) = match &at.local {
         Local::Sphere { center, .. } => {

@@ -308,7 +308,11 @@ impl Light {
 
     /// For a point `p`: the unit direction towards the light, the distance
     /// to it (infinite for parallel lights) and the light arriving there.
-    #[inline]
+    /// (Inlined for parallel and point lights: the three values come back
+    /// in registers, where a call returned them through memory, written
+    /// in narrower pieces than they were read back in, a store-forwarding
+    /// stall per shadow ray.)
+    #[inline(always)]
     pub fn at(&self, p: Vec3) -> (Vec3, f32, Vec3) {
         match *self {
             Light::Parallel { color, dir } => (-dir, f32::INFINITY, color),
@@ -318,6 +322,15 @@ impl Light {
                 let r = r2.sqrt();
                 (d / r, r, color / falloff.at(r, r2))
             }
+            _ => self.at_other(p),
+        }
+    }
+
+    /// `at` for spot lights and lights with a size.
+    #[inline(never)]
+    fn at_other(&self, p: Vec3) -> (Vec3, f32, Vec3) {
+        match *self {
+            Light::Parallel { .. } | Light::Point { .. } => self.at(p),
             Light::Spot { color, pos, dir, cos_inner, cos_outer, falloff } => {
                 let d = pos.as_vec3() - p;
                 let r2 = d.length_squared();
