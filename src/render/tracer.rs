@@ -688,7 +688,10 @@ pub(super) struct Surface {
 /// worked out in the primitive's own coordinates, then turned to the
 /// world's (normals by the inverse transpose; the side a ray arrives from
 /// is the same in both).
-#[inline]
+/// (Inlined, as `surface_local` is: returned through memory, the surface
+/// was written in narrower pieces than it was read back in, a
+/// store-forwarding stall per shading point.)
+#[inline(always)]
 pub(super) fn surface(scene: &Scene, at: &Located, p: Vec3, d: Vec3) -> Surface {
     let (p_l, d_l) = match at.to_local {
         None => (p, d),
@@ -1012,6 +1015,10 @@ pub(super) struct Look {
 }
 
 impl Look {
+    /// (The plain material's look inlined, the rest out of line: a call
+    /// returned the look through memory, written in narrower pieces than
+    /// it was read back in, a store-forwarding stall per shading point.)
+    #[inline(always)]
     pub(super) fn at(
         scene: &Scene,
         m: &Material,
@@ -1026,6 +1033,20 @@ impl Look {
         if plain {
             return Look { colour: m.color, normal: ns, tangent: Vec3::ZERO };
         }
+        Look::textured(scene, m, at, (p, origin), ns, front)
+    }
+
+    /// `at` for a material with a texture, a bump or an anisotropic
+    /// highlight.
+    #[inline(never)]
+    fn textured(
+        scene: &Scene,
+        m: &Material,
+        at: &Located,
+        (p, origin): (Vec3, Vec3),
+        ns: Vec3,
+        front: bool,
+    ) -> Look {
         let to_tex = texture_frame(scene, m, at.level, at.moved);
         let q = to_tex.transform_point3(p);
         let cone = cone(scene, p, origin);
