@@ -368,18 +368,26 @@ impl Bvh {
         objects: Vec<Object>,
         width: Width,
     ) -> Bvh {
-        let mut prims: Vec<BuildPrim> = (0..n)
+        // Every shape's entry, in place (an indexed collect: a filtered
+        // one gathers pieces and copies them together), those left out
+        // marked by a NaN and dropped after.
+        let mut prims: Vec<BuildPrim> = Vec::new();
+        (0..n)
             .into_par_iter()
-            .filter_map(|i| {
+            .map(|i| {
                 let s = shape(i);
+                let mut p = BuildPrim::new(s.bounds(), i as u32, block_kind(&s));
                 match s {
-                    Shape::Triangle(t) if !t.has_area() => return None,
-                    Shape::Object { bounds, .. } if bounds.is_empty() => return None,
+                    Shape::Triangle(t) if !t.has_area() => p.max.w = f32::NAN,
+                    Shape::Object { bounds, .. } if bounds.is_empty() => p.max.w = f32::NAN,
                     _ => {}
                 }
-                Some(BuildPrim::new(s.bounds(), i as u32, block_kind(&s)))
+                p
             })
-            .collect();
+            .collect_into_vec(&mut prims);
+        if prims.par_iter().any(|p| p.max.w.is_nan()) {
+            prims.retain(|p| !p.max.w.is_nan());
+        }
         // (Only objects can be unbounded.)
         let unbounded: Vec<(u32, u32)> = if objects.is_empty() {
             Vec::new()
@@ -1556,8 +1564,10 @@ fn split_on<const A: usize, const K: usize>(
     // swapped with the boundary's, which moves only on the left side.
     let mut i = 0;
     for j in 0..prims.len() {
-        let left = bin_of(prims[j].centroid2()) <= best.1;
-        prims.swap(i, j);
+        let (a, b) = (prims[i], prims[j]);
+        let left = bin_of(b.centroid2()) <= best.1;
+        // (Two loads and two stores: `slice::swap` went through the stack.)
+        (prims[i], prims[j]) = (b, a);
         i += left as usize;
     }
     if i == 0 || i == prims.len() {
