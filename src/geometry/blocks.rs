@@ -64,6 +64,18 @@ impl Default for Rec {
 }
 
 impl Rec {
+    /// The record of lane `lane` of the block of `shapes` (`Block::of`):
+    /// an empty lane's past the last.
+    pub fn of_lane(shapes: &[(u32, Shape)], lane: usize) -> Rec {
+        let Some(&(id, ref s)) = shapes.get(lane) else { return Rec::default() };
+        match s {
+            Shape::Triangle(t) => Rec::new(Kind::Triangle, t.normals, t.material, id),
+            Shape::Sphere { material, .. } => Rec::new(Kind::Sphere, [0; 3], *material, id),
+            Shape::Cone(c) => Rec::new(Kind::Cone, [0; 3], c.material, id),
+            Shape::Object { index, .. } => Rec::new(Kind::Object, [*index, 0, 0], u32::MAX, id),
+        }
+    }
+
     pub fn new(kind: Kind, normals: [u32; 3], material: u32, id: u32) -> Rec {
         Rec { normals, material, tag: (kind as u32) << ID_BITS | id.min(ID_MAX) }
     }
@@ -95,56 +107,55 @@ impl Block {
 
     /// Packs `shapes` (all of one kind, each with its number in the scene)
     /// into blocks appended to `blocks`, and their lanes' records to
-    /// `recs` (which holds four per block).
+    /// `recs` (which holds four per block). (The build makes the same
+    /// blocks on all threads, with `of` and `Rec::of_lane`.)
+    #[cfg(test)]
     pub fn pack(shapes: &[(u32, Shape)], blocks: &mut Vec<Block>, recs: &mut Vec<Rec>) {
         debug_assert_eq!(recs.len(), blocks.len() * 4);
         for chunk in shapes.chunks(4) {
-            let mut b = Block::EMPTY;
-            let mut lanes = [Rec::default(); 4];
-            for (lane, (id, s)) in chunk.iter().enumerate() {
-                let rec = &mut lanes[lane];
-                match s {
-                    Shape::Triangle(t) => {
-                        for (k, p) in t.p.iter().enumerate() {
-                            for axis in 0..3 {
-                                b.v[3 * k + axis][lane] = p[axis];
-                            }
-                        }
-                        *rec = Rec::new(Kind::Triangle, t.normals, t.material, *id);
-                    }
-                    Shape::Sphere { center, radius, material } => {
-                        for axis in 0..3 {
-                            b.v[axis][lane] = center[axis];
-                        }
-                        b.v[3][lane] = *radius;
-                        *rec = Rec::new(Kind::Sphere, [0; 3], *material, *id);
-                    }
-                    Shape::Cone(c) => {
-                        b.set_cone(lane, c);
-                        *rec = Rec::new(Kind::Cone, [0; 3], c.material, *id);
-                    }
-                    Shape::Object { index, bounds } => {
-                        for axis in 0..3 {
-                            b.v[axis][lane] = bounds.min[axis];
-                            b.v[3 + axis][lane] = bounds.max[axis];
-                        }
-                        *rec = Rec::new(Kind::Object, [*index, 0, 0], u32::MAX, *id);
-                    }
-                }
-            }
-            // An object block's empty lanes: inverted boxes, which the slab
-            // test never enters (a NaN box may pass it).
-            if let Some((_, Shape::Object { .. })) = chunk.first() {
-                for lane in chunk.len()..4 {
-                    for axis in 0..3 {
-                        b.v[axis][lane] = f32::INFINITY;
-                        b.v[3 + axis][lane] = f32::NEG_INFINITY;
-                    }
-                }
-            }
-            blocks.push(b);
-            recs.extend(lanes);
+            blocks.push(Block::of(chunk));
+            recs.extend((0..4).map(|lane| Rec::of_lane(chunk, lane)));
         }
+    }
+
+    /// The block of up to four `shapes` of one kind (`pack`'s step).
+    pub fn of(shapes: &[(u32, Shape)]) -> Block {
+        let mut b = Block::EMPTY;
+        for (lane, (_, s)) in shapes.iter().enumerate().take(4) {
+            match s {
+                Shape::Triangle(t) => {
+                    for (k, p) in t.p.iter().enumerate() {
+                        for axis in 0..3 {
+                            b.v[3 * k + axis][lane] = p[axis];
+                        }
+                    }
+                }
+                Shape::Sphere { center, radius, .. } => {
+                    for axis in 0..3 {
+                        b.v[axis][lane] = center[axis];
+                    }
+                    b.v[3][lane] = *radius;
+                }
+                Shape::Cone(c) => b.set_cone(lane, c),
+                Shape::Object { bounds, .. } => {
+                    for axis in 0..3 {
+                        b.v[axis][lane] = bounds.min[axis];
+                        b.v[3 + axis][lane] = bounds.max[axis];
+                    }
+                }
+            }
+        }
+        // An object block's empty lanes: inverted boxes, which the slab
+        // test never enters (a NaN box may pass it).
+        if let Some((_, Shape::Object { .. })) = shapes.first() {
+            for lane in shapes.len()..4 {
+                for axis in 0..3 {
+                    b.v[axis][lane] = f32::INFINITY;
+                    b.v[3 + axis][lane] = f32::NEG_INFINITY;
+                }
+            }
+        }
+        b
     }
 
     /// The primitive in `lane`, as a shape.
