@@ -409,9 +409,6 @@ impl Bvh {
         let mixed = prims.first().is_some_and(|a| prims.par_iter().any(|p| p.kind() != a.kind()));
         let at = Level { level: 1, mixed };
         let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, both, 0, at) };
-        let mut ordered: Vec<(u32, Shape)> =
-            prims.par_iter().map(|p| (p.index() as u32, shape(p.index()))).collect();
-        drop(prims);
         // Each leaf's blocks (the shapes of a mesh are of one kind; others
         // may need a few more).
         let leaves = binary.iter().filter(|n| n.count > 0);
@@ -421,11 +418,11 @@ impl Bvh {
         let (nodes, depth) = match width {
             #[cfg(target_arch = "x86_64")]
             Width::Eight if let Some(avx) = Avx2::new() => {
-                let (nodes, depth) = widen(&binary, &mut ordered, &mut blocks, &mut recs);
+                let (nodes, depth) = widen(&binary, &mut prims, &shape, &mut blocks, &mut recs);
                 (Nodes::Eight(nodes, avx), depth)
             }
             _ => {
-                let (nodes, depth) = widen(&binary, &mut ordered, &mut blocks, &mut recs);
+                let (nodes, depth) = widen(&binary, &mut prims, &shape, &mut blocks, &mut recs);
                 (Nodes::Four(nodes), depth)
             }
         };
@@ -1181,25 +1178,36 @@ thread_local! {
 /// `Widen`); returns the nodes and the depth.
 fn widen<S: Slots>(
     bin: &[Node],
-    shapes: &mut [(u32, Shape)],
+    prims: &mut [BuildPrim],
+    shape: &(impl Fn(usize) -> Shape + Sync),
     blocks: &mut Vec<Block>,
     recs: &mut Vec<Rec>,
 ) -> (Vec<S>, usize) {
     let nodes = Vec::with_capacity(bin.len() / (S::N - 1) + 1);
     let plan = Plan::new(bin, S::N);
     let chunks = Vec::with_capacity(blocks.capacity());
-    let mut w = Widen { bin, plan, shapes, nodes, chunks, depth: 0 };
+    let mut w = Widen { bin, plan, prims, nodes, chunks, depth: 0 };
     w.run();
     // The blocks and their records, made on all threads (the walk above
-    // only says where each goes: packing them one by one took a third of
-    // a large mesh's build).
-    let Widen { nodes, chunks, shapes, depth, .. } = w;
-    let of = |&(first, n): &(u32, u32)| &shapes[first as usize..(first + n) as usize];
-    chunks.par_iter().map(|c| Block::of(of(c))).collect_into_vec(blocks);
-    (0..4 * chunks.len())
-        .into_par_iter()
-        .map(|r| Rec::of_lane(of(&chunks[r / 4]), r % 4))
-        .collect_into_vec(recs);
+    // only says which primitives each holds: packing them one by one took
+    // a third of a large mesh's build), each shape made here, once (a
+    // copy of them all in leaf order took 96 MB for 1.6M triangles).
+    let Widen { nodes, chunks, prims, depth, .. } = w;
+    let mut lanes: Vec<[Rec; 4]> = Vec::new();
+    chunks
+        .par_iter()
+        .map(|&(first, n)| {
+            let filler = (0, Shape::Sphere { center: Vec3::ZERO, radius: 0.0, material: 0 });
+            let mut four = [filler; 4];
+            let mine = &prims[first as usize..(first + n) as usize];
+            for (f, p) in four.iter_mut().zip(mine) {
+                *f = (p.index() as u32, shape(p.index()));
+            }
+            let four = &four[..mine.len()];
+            (Block::of(four), std::array::from_fn(|lane| Rec::of_lane(four, lane)))
+        })
+        .unzip_into_vecs(blocks, &mut lanes);
+    (0..4 * lanes.len()).into_par_iter().map(|r| lanes[r / 4][r % 4]).collect_into_vec(recs);
     (nodes, depth)
 }
 
@@ -1293,9 +1301,9 @@ impl Plan {
 struct Widen<'a, S> {
     bin: &'a [Node],
     plan: Plan,
-    /// The primitives in leaf order, with their numbers in the scene (each
-    /// leaf's are reordered, triangles first, as they are packed).
-    shapes: &'a mut [(u32, Shape)],
+    /// The primitives in leaf order (each leaf's are reordered, triangles
+    /// first, as they are packed).
+    prims: &'a mut [BuildPrim],
     nodes: Vec<S>,
     /// The blocks, in order, as the shapes they hold: (first, count).
     chunks: Vec<(u32, u32)>,
@@ -1322,20 +1330,20 @@ impl<S: Slots> Widen<'_, S> {
     /// Packs a binary leaf's primitives; returns its slot's child and count.
     fn leaf(&mut self, n: &Node) -> (u32, u32) {
         let (first, count) = (n.offset as usize, n.count as usize);
-        let mine = &mut self.shapes[first..first + count];
+        let mine = &mut self.prims[first..first + count];
         // Stable: triangles first, then spheres, cones, objects.
         let start = self.chunks.len() as u32;
         // (A mesh's leaf: all triangles, nothing to sort.)
-        if mine.iter().all(|s| block_kind(&s.1) == 0) {
+        if mine.iter().all(|p| p.kind() == 0) {
             self.blocks_of(first, count);
             return (start, self.chunks.len() as u32 - start);
         }
-        mine.sort_by_key(|s| block_kind(&s.1));
+        mine.sort_by_key(|p| p.kind());
         let mut counts = [0u32; 4];
         let mut from = 0;
         for (k, c) in counts.iter_mut().enumerate() {
-            let mine = &self.shapes[first..first + count];
-            let n = mine[from..].iter().take_while(|s| block_kind(&s.1) == k).count();
+            let mine = &self.prims[first..first + count];
+            let n = mine[from..].iter().take_while(|p| p.kind() == k).count();
             let before = self.chunks.len();
             self.blocks_of(first + from, n);
             *c = (self.chunks.len() - before) as u32;
