@@ -223,13 +223,20 @@ impl Feedback {
         let mut last_json = start;
         let mut rate = Rate::default();
         let me = std::thread::current();
+        let finished = AtomicBool::new(false);
         let result = std::thread::scope(|s| {
             let worker = s.spawn(|| {
                 let r = work(&job);
+                // Said before the thread ends: `is_finished` turns true
+                // only once this closure has returned, after the unpark,
+                // and a wait begun in between slept its whole 40 ms (a
+                // render of 512x512 took 6 or 46 ms at random).
+                finished.store(true, Ordering::Release);
                 me.unpark();
                 r
             });
-            while !worker.is_finished() {
+            // (`is_finished` too, for a worker that panicked.)
+            while !finished.load(Ordering::Acquire) && !worker.is_finished() {
                 std::thread::park_timeout(Duration::from_millis(40));
                 let done = job.done.load(Ordering::Relaxed);
                 match self.mode {
