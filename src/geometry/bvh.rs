@@ -180,8 +180,9 @@ pub struct Bvh {
     /// This tree's number in the process, never reused: an `Occluder`
     /// names its tree by it.
     id: u64,
-    /// `stats` and `triangles`, counted once (walks over every node and
-    /// record: 3 ms of each render of a 1.6M-triangle mesh, for `stats`).
+    /// `stats` and `triangles`, counted once: walks over every node and
+    /// record, which each render's report made again (milliseconds of a
+    /// re-render of a 1.6M-triangle mesh).
     counted: std::sync::OnceLock<(BvhStats, usize)>,
 }
 

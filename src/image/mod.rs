@@ -102,8 +102,8 @@ impl Image {
         out.resize(self.pixels.len() * 3, 0);
         let w = (self.width as usize).max(1);
         // One loop per encoding, so the linear one is a few instructions
-        // per value (it took half the write of a quick re-render when the
-        // encoding was looked up for each).
+        // per value, which the compiler vectorizes (the encoding was
+        // looked up for each value).
         let convert = |(o, px): (&mut [u8], &[Vec3])| match enc {
             Encoding::Linear => bytes(o, px, |v| to_byte(v, Encoding::Linear)),
             Encoding::Srgb => bytes(o, px, |v| to_byte(v, Encoding::Srgb)),
