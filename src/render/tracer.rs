@@ -247,9 +247,7 @@ pub fn render_into(scene: &Scene, job: &Job, buf: Vec<Vec3>) -> Option<(Image, R
             let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO); PACKET];
             let mut hits = [(None, 0); PACKET];
             let n = px.len().min(PACKET);
-            for (r, p) in rays.iter_mut().zip(px) {
-                *r = ray(p);
-            }
+            cam.rays_into(&px[..n], sampling.shutter[0], &mut rays[..n]);
             scene.intersect_packet(&rays[..n], &mut hits[..n]);
             let begin = |i: usize, st: &mut RayStats| start(st, px[i]);
             shade_packet(scene, (&rays[..n], &hits[..n]), st, begin, |_, c| values.push(c));
