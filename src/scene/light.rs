@@ -177,7 +177,7 @@ impl Light {
         }
     }
 
-    /// `sample_at` for the lights with a size (out of line: the point
+    /// `sample_at` out of line, for the lights with a size (the point
     /// lights' path is inlined into the shaders).
     fn sample_sized(&self, p: Vec3, k: u32, (a, b): (f32, f32)) -> (Vec3, f32, Vec3) {
         match *self {
@@ -221,7 +221,7 @@ impl Light {
                 let share = 2.0 * (1.0 - cos_max) / (n * n) as f32;
                 (l, r, radiance * share)
             }
-            _ => unreachable!("sample_sized of a light without a size"),
+            _ => self.at(p),
         }
     }
 
