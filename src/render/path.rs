@@ -155,8 +155,8 @@ pub(super) fn radiance_from(
         let p_diffuse = weights[0] / sum;
 
         // Next-event estimation.
-        let (u_pick, u_lobe) = sample::jitter(st.key, st.next_dim(), 0);
-        let u_light = sample::jitter(st.key, st.next_dim(), 0);
+        let (u_pick, u_lobe) = sample::jitter(st.key(), st.next_dim(), 0);
+        let u_light = sample::jitter(st.key(), st.next_dim(), 0);
         if let Some((i, prob)) = set.pick(u_pick).filter(|_| m.kd > 0.0 || m.ks > 0.0) {
             let item = &set.items[i];
             if let Some(ls) = emitters::sample(item, &scene.sky, p, prob, u_light) {
@@ -202,8 +202,8 @@ pub(super) fn radiance_from(
         }
 
         // The next direction, by the BSDF.
-        let (u_rr, u_fresnel) = sample::jitter(st.key, st.next_dim(), 0);
-        let u_dir = sample::jitter(st.key, st.next_dim(), 0);
+        let (u_rr, u_fresnel) = sample::jitter(st.key(), st.next_dim(), 0);
+        let u_dir = sample::jitter(st.key(), st.next_dim(), 0);
         let x = u_lobe * sum;
         if x < weights[0] {
             let dir = cosine_dir(ns, u_dir);

@@ -34,7 +34,13 @@ pub fn frame_key(s: &Sampling) -> u64 {
 /// `pixel_key` from the frame's `frame_key`.
 #[inline]
 pub fn key_of_pixel(frame: u64, pixel: u64) -> u64 {
-    mix(frame ^ pixel)
+    mix(seed_of_pixel(frame, pixel))
+}
+
+/// What `key_of_pixel` mixes (a `RayStats` mixes it when it is used).
+#[inline]
+pub fn seed_of_pixel(frame: u64, pixel: u64) -> u64 {
+    frame ^ pixel
 }
 
 /// Two numbers in [0, 1) for stratum `k` of shading dimension `dim` of a

@@ -56,9 +56,11 @@ pub struct RayStats {
     /// The ray count (`total`) at which the current pixel's tree stops
     /// branching; 0: no limit.
     pub limit: u64,
-    /// The current camera ray's random key, and how many shading points
-    /// have drawn from it (`next_dim`).
-    pub key: u64,
+    /// The current camera ray's random key before its mix (`key`), and
+    /// how many shading points have drawn from it (`next_dim`). (Mixed
+    /// where it is used: most camera rays draw nothing, and mixing each
+    /// pixel's key was 15 % of an ambient-only render's own work.)
+    pub seed: u64,
     pub dim: u32,
     /// What blocked the last shadow ray toward each light (by its number,
     /// modulo `OCCLUDERS`) that this thread traced in this band or tile:
@@ -80,7 +82,7 @@ impl RayStats {
             refracted: self.refracted + o.refracted,
             bvh_steps: self.bvh_steps + o.bvh_steps,
             limit: 0,
-            key: 0,
+            seed: 0,
             dim: 0,
             occluders: self.occluders,
         }
@@ -92,12 +94,19 @@ impl RayStats {
         self.dim
     }
 
-    /// Starts a camera ray: its ray budget and its random numbers.
-    pub(super) fn start(&mut self, key: u64) {
+    /// Starts a camera ray: its ray budget and its random numbers, whose
+    /// key is `sample::mix(seed)`.
+    pub(super) fn start(&mut self, seed: u64) {
         self.primary += 1;
         self.limit = self.total() + MAX_RAYS_PER_PIXEL;
-        self.key = key;
+        self.seed = seed;
         self.dim = 0;
+    }
+
+    /// The current camera ray's random key.
+    #[inline]
+    pub(crate) fn key(&self) -> u64 {
+        sample::mix(self.seed)
     }
 
     pub fn total(&self) -> u64 {
@@ -234,7 +243,7 @@ pub fn render_into(scene: &Scene, job: &Job, buf: Vec<Vec3>) -> Option<(Image, R
             // The pixel centres, as COS 426 traces them.
             let ray = |&(x, y): &(u32, u32)| cam.ray(x, y).at_time(sampling.shutter[0]);
             let start = |st: &mut RayStats, (x, y): (u32, u32)| {
-                st.start(sample::key_of_pixel(frame, y as u64 * cam.width as u64 + x as u64));
+                st.start(sample::seed_of_pixel(frame, y as u64 * cam.width as u64 + x as u64));
             };
             if !whitted {
                 for p in px {
@@ -372,7 +381,7 @@ impl Pixel {
             }
             // The cap on rays is per camera ray.
             let begin = |j: usize, st: &mut RayStats| {
-                st.start(sample::mix(key ^ ((s + j as u32) as u64) << 32));
+                st.start(key ^ ((s + j as u32) as u64) << 32);
             };
             if together && todo >= 2 {
                 let mut hits = [(None, 0); PACKET];
@@ -936,7 +945,7 @@ fn lit(
         let dim = st.next_dim();
         for k in 0..samples {
             let jitter = if samples > 1 || light.is_visible() {
-                sample::jitter(st.key, dim, k)
+                sample::jitter(st.key(), dim, k)
             } else {
                 (0.5, 0.5)
             };
