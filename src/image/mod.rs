@@ -70,6 +70,19 @@ fn to_byte(v: f32, enc: Encoding) -> u8 {
     (v * 255.0 + 0.5) as u8
 }
 
+/// Pixels `px` into bytes `out` (three to a pixel), as `Image::to_rgb8`
+/// makes them: a band of a picture at a time, while it is in cache, for
+/// the renderer.
+pub fn rgb8_of(px: &[Vec3], enc: Encoding, out: &mut [u8]) {
+    // One loop per encoding, so the linear one is a few instructions per
+    // value, which the compiler vectorizes (the encoding was looked up
+    // for each value).
+    match enc {
+        Encoding::Linear => bytes(out, px, |v| to_byte(v, Encoding::Linear)),
+        Encoding::Srgb => bytes(out, px, |v| to_byte(v, Encoding::Srgb)),
+    }
+}
+
 /// `px` into bytes `o`, each value by `byte`.
 #[inline(always)]
 fn bytes(o: &mut [u8], px: &[Vec3], byte: impl Fn(f32) -> u8) {
@@ -101,16 +114,11 @@ impl Image {
         use rayon::prelude::*;
         out.resize(self.pixels.len() * 3, 0);
         let w = (self.width as usize).max(1);
-        // One loop per encoding, so the linear one is a few instructions
-        // per value, which the compiler vectorizes (the encoding was
-        // looked up for each value).
-        let convert = |(o, px): (&mut [u8], &[Vec3])| match enc {
-            Encoding::Linear => bytes(o, px, |v| to_byte(v, Encoding::Linear)),
-            Encoding::Srgb => bytes(o, px, |v| to_byte(v, Encoding::Srgb)),
-        };
         // Bands of rows of about 64k pixels each.
         let rows = (65536 / w).max(1);
-        out.par_chunks_mut(3 * w * rows).zip(self.pixels.par_chunks(w * rows)).for_each(convert);
+        out.par_chunks_mut(3 * w * rows)
+            .zip(self.pixels.par_chunks(w * rows))
+            .for_each(|(o, px)| rgb8_of(px, enc, o));
     }
 
     pub fn write(&self, w: impl Write, format: Format, enc: Encoding) -> io::Result<()> {
@@ -131,14 +139,27 @@ impl Image {
         stop: &dyn Fn() -> bool,
         rgb: &mut Vec<u8>,
     ) -> io::Result<()> {
-        if format == Format::Pfm {
-            return self.write_pfm(w);
+        if format != Format::Pfm {
+            self.to_rgb8_into(enc, rgb);
         }
-        self.to_rgb8_into(enc, rgb);
+        self.write_bytes_placed(w, format, enc, at, stop, rgb)
+    }
+
+    /// `write_placed` with the picture's bytes made already (`rgb`, as
+    /// `to_rgb8_into` makes them in `enc`; unused for a PFM).
+    pub fn write_bytes_placed(
+        &self,
+        w: impl Write,
+        format: Format,
+        enc: Encoding,
+        at: Option<Placement>,
+        stop: &dyn Fn() -> bool,
+        rgb: &[u8],
+    ) -> io::Result<()> {
         match format {
+            Format::Pfm => self.write_pfm(w),
             Format::Ppm => write_ppm_placed(w, self.width, self.height, rgb, at),
             Format::Png => write_png_placed(w, self.width, self.height, rgb, enc, at, stop),
-            Format::Pfm => unreachable!("written above"),
         }
     }
 

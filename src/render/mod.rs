@@ -12,6 +12,6 @@ mod tracer;
 
 pub use job::{Job, PASSES, Rect};
 pub use tracer::{
-    RayStats, apply_look, raybench, raybench_brute, reflect, refract, render, render_heatmap,
-    render_into, trace,
+    RayStats, apply_look, raybench, raybench_brute, reflect, refract, render, render_finished,
+    render_heatmap, render_into, trace,
 };

@@ -22,12 +22,12 @@
 
 use glam::Vec3;
 
-use super::job::{BLOCK, Job, Out, per_block, per_pixel, per_pixel_passes};
+use super::job::{BLOCK, Finish, Job, Out, per_block, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
 use crate::geometry::{
     Hit, Local, Located, Occluder, PACKET, Ray, Shadow, ShadowHit, Triangle, intersect_brute,
 };
-use crate::image::Image;
+use crate::image::{Encoding, Image};
 use crate::scene::{Highlight, Integrator, Material, Scene, texture};
 
 /// Mixed into a batch's key for its pattern of times.
@@ -200,6 +200,31 @@ pub fn render(scene: &Scene, job: &Job) -> Option<(Image, RayStats)> {
 /// of the same size: its pages are in place, and every pixel is written
 /// again before the picture is returned); else into a fresh buffer.
 pub fn render_into(scene: &Scene, job: &Job, buf: Vec<Vec3>) -> Option<(Image, RayStats)> {
+    render_bands(scene, job, buf, None).map(|(img, st, _)| (img, st))
+}
+
+/// `render_into`, finishing the picture for a file as it is traced: each
+/// band of rows, once traced, gets the look (`apply_look`) and is made
+/// into bytes in `enc` (into `bytes`, as `Image::to_rgb8_into` makes
+/// them) while it is in cache. The flag says whether it was done: not
+/// while another thread watches the picture grow (`job.canvas`); then the
+/// picture is as `render_into` makes it.
+pub fn render_finished(
+    scene: &Scene,
+    job: &Job,
+    buf: Vec<Vec3>,
+    bytes: &mut Vec<u8>,
+    enc: Encoding,
+) -> Option<(Image, RayStats, bool)> {
+    render_bands(scene, job, buf, Some((bytes, enc)))
+}
+
+fn render_bands(
+    scene: &Scene,
+    job: &Job,
+    buf: Vec<Vec3>,
+    bytes: Option<(&mut Vec<u8>, Encoding)>,
+) -> Option<(Image, RayStats, bool)> {
     let cam = &scene.camera;
     let r = job.rect(cam.width, cam.height);
     let n = r.pixels() as usize;
@@ -211,11 +236,29 @@ pub fn render_into(scene: &Scene, job: &Job, buf: Vec<Vec3>) -> Option<(Image, R
             vec![Vec3::ZERO; n]
         }
     };
-    let out = match job.canvas {
-        Some(c) => Out::Shared(c),
-        None => Out::Own(&mut own),
-    };
     let sampling = &scene.sampling;
+    let finish = |px: &mut [Vec3], out: &mut [u8], enc: Encoding| {
+        if has_look(sampling) {
+            px.iter_mut().for_each(|p| *p = sampling.look(*p));
+        }
+        crate::image::rgb8_of(px, enc, out);
+    };
+    let (finish_linear, finish_srgb) = (
+        |px: &mut [Vec3], out: &mut [u8]| finish(px, out, Encoding::Linear),
+        |px: &mut [Vec3], out: &mut [u8]| finish(px, out, Encoding::Srgb),
+    );
+    let finished = job.canvas.is_none() && bytes.is_some();
+    let out = match (job.canvas, bytes) {
+        (Some(c), _) => Out::Shared(c),
+        (None, Some((bytes, enc))) => {
+            let f: &(dyn Fn(&mut [Vec3], &mut [u8]) + Sync) = match enc {
+                Encoding::Linear => &finish_linear,
+                Encoding::Srgb => &finish_srgb,
+            };
+            Out::Finished(&mut own, Finish::new(bytes, n, 3, f))
+        }
+        (None, None) => Out::Own(&mut own),
+    };
     let table = FilterTable::new(sampling.filter);
     let sampled = sampling.samples > 1
         || sampling.integrator == Integrator::Path
@@ -267,7 +310,7 @@ pub fn render_into(scene: &Scene, job: &Job, buf: Vec<Vec3>) -> Option<(Image, R
         None => own,
         Some(c) => c.lock().unwrap_or_else(|e| e.into_inner()).clone(),
     };
-    Some((Image { width: r.width(), height: r.height(), pixels }, stats))
+    Some((Image { width: r.width(), height: r.height(), pixels }, stats, finished))
 }
 
 /// The colours seen along camera rays `rays`, whose closest hits (and
@@ -472,9 +515,14 @@ impl PixelSum {
 /// Applies the scene's exposure and tone map to a rendered picture (the
 /// last step before it is written).
 pub fn apply_look(sampling: &crate::scene::Sampling, img: &mut Image) {
-    if sampling.exposure != 0.0 || sampling.tonemap != crate::scene::Tonemap::Clamp {
+    if has_look(sampling) {
         img.pixels.iter_mut().for_each(|p| *p = sampling.look(*p));
     }
+}
+
+/// Whether `Sampling::look` changes any colour.
+fn has_look(sampling: &crate::scene::Sampling) -> bool {
+    sampling.exposure != 0.0 || sampling.tonemap != crate::scene::Tonemap::Clamp
 }
 
 /// The cost picture: each pixel coloured by the BVH traversal steps of its
@@ -1245,6 +1293,54 @@ const TIR: f32 = 1.0;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A picture finished band by band as it is traced (`render_finished`)
+    /// is the picture `render_into` makes with the look applied after,
+    /// and its bytes are `to_rgb8`'s, to the bit: plain, in passes, with
+    /// samples (in passes or not), cropped, tone-mapped, in either
+    /// encoding, on a picture short enough for bands of one row.
+    #[test]
+    fn finished_bands_are_the_picture_and_its_bytes() {
+        use crate::scene::{Builder, Falloff, Light, Tonemap};
+        use glam::DVec3;
+        for (progressive, samples, crop, tonemap, height) in [
+            (false, 1, false, Tonemap::Clamp, 29),
+            (true, 1, false, Tonemap::Aces, 29),
+            (false, 4, true, Tonemap::Reinhard, 29),
+            (true, 4, false, Tonemap::Clamp, 29),
+            (false, 1, true, Tonemap::Clamp, 3u32),
+        ] {
+            let mut b = Builder::new();
+            b.camera_from(DVec3::new(0.0, 1.0, 6.0)).unwrap();
+            b.camera_resolution(37, height as i64).unwrap();
+            b.set_ambient(Vec3::splat(0.2)).unwrap();
+            let light =
+                Light::point(Vec3::splat(40.0), DVec3::new(2.0, 4.0, 3.0), Falloff::INVERSE_SQUARE);
+            b.add_light(light.unwrap()).unwrap();
+            for k in 0..5 {
+                b.sphere(DVec3::new(k as f64 - 2.0, 0.0, -(k as f64)), 0.7).unwrap();
+            }
+            b.sampling.samples = samples;
+            b.sampling.tonemap = tonemap;
+            b.sampling.exposure = 0.5;
+            let scene = Scene::freeze(&b).unwrap();
+            let crop = crop.then_some(super::super::Rect { x0: 3, y0: 1, x1: 30, y1: height - 1 });
+            let job = || Job { progressive, crop, ..Job::default() };
+            let (mut want, _) = render_into(&scene, &job(), Vec::new()).unwrap();
+            apply_look(&scene.sampling, &mut want);
+            for enc in [Encoding::Linear, Encoding::Srgb] {
+                let mut bytes = vec![7u8; 5];
+                let (img, _, finished) =
+                    render_finished(&scene, &job(), Vec::new(), &mut bytes, enc).unwrap();
+                assert!(finished);
+                let bits = |i: &Image| {
+                    i.pixels.iter().map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>()
+                };
+                assert_eq!(bits(&img), bits(&want), "{progressive} {samples} {crop:?}");
+                assert_eq!(bytes, want.to_rgb8(enc), "{progressive} {samples} {crop:?} {enc:?}");
+            }
+        }
+    }
 
     /// A scene big enough for shadow packets (`Bvh::packs_shadows`): a
     /// wavy ground of 33,800 triangles, half smooth (so shadow rays leave

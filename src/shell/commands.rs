@@ -841,21 +841,31 @@ fn render_command(
         (r.x1 - r.x0) as usize * (r.y1 - r.y0) as usize
     });
     crate::mem::reserve_n(pixels, 12 + 3)?;
+    // The bytes for the file are made as the picture is traced, band by
+    // band (`render_finished`), in the buffer kept from the last render.
+    let mut bytes = std::mem::take(&mut st.bytes);
     let done = st.feedback.watch(path, (width, height), progressive, |job| {
         if heatmap {
-            render::render_heatmap(&scene, job)
+            render::render_heatmap(&scene, job).map(|(img, rays)| (img, rays, false))
+        } else if format == Format::Pfm {
+            render::render_into(&scene, job, old).map(|(img, rays)| (img, rays, false))
         } else {
-            render::render_into(&scene, job, old)
+            render::render_finished(&scene, job, old, &mut bytes, enc)
         }
     });
     // Cancelled (Ctrl-C): the temporary file goes with `out`.
-    let (mut img, rays) = done.ok_or_else(super::interrupted)?;
-    if !heatmap {
+    let (mut img, rays, finished) = done.ok_or_else(super::interrupted)?;
+    if !heatmap && !finished {
         render::apply_look(&scene.sampling, &mut img);
     }
     let render_seconds = start.elapsed().as_secs_f64();
-    img.write_placed(out.writer(), format, enc, placement, &interrupted, &mut st.bytes)
-        .map_err(write_err)?;
+    if finished {
+        img.write_bytes_placed(out.writer(), format, enc, placement, &interrupted, &bytes)
+    } else {
+        img.write_placed(out.writer(), format, enc, placement, &interrupted, &mut bytes)
+    }
+    .map_err(write_err)?;
+    st.bytes = bytes;
     out.commit().map_err(write_err)?;
     st.feedback.show_final(&img.pixels, img.width, img.height);
     st.feedback.finished(&super::feedback::Finished {
