@@ -88,36 +88,43 @@ pub struct MeshData {
 /// A primitive as the script gave it. Triangles keep pool indices (checked
 /// when added) and are resolved to inline vertices by `shape` at render, so adding
 /// one is a bounds check and a 32-byte push, whatever the pool's size.
+/// Spheres and cones keep theirs in pools too (`Builder::spheres`,
+/// `cones`): a cone inline made every primitive 72 bytes, which a render's
+/// build read twice, the second time in the tree's order (a 100k-triangle
+/// mesh's leaves took 4 ms to make on two threads, mostly waiting for
+/// memory).
 #[derive(Clone, Copy, Debug)]
 pub enum Prim {
     /// Vertex indices into `Builder::vertices`.
-    Tri {
-        v: [u32; 3],
-        n: [u32; 3],
-        material: u32,
-    },
+    Tri { v: [u32; 3], n: [u32; 3], material: u32 },
     /// Vertex indices into `Builder::mesh_vertices` (meshes keep their
     /// positions out of the script's pool, so `vertex` numbering is theirs).
-    MeshTri {
-        v: [u32; 3],
-        n: [u32; 3],
-        material: u32,
-    },
-    Sphere {
-        center: DVec3,
-        radius: f64,
-        material: u32,
-    },
-    /// From `a` (radius `r0`) to `b` (radius `r1`): placed by a
-    /// similarity, so still a cone (`Builder::cone`).
-    Cone {
-        a: DVec3,
-        b: DVec3,
-        r0: f64,
-        r1: f64,
-        capped: bool,
-        material: u32,
-    },
+    MeshTri { v: [u32; 3], n: [u32; 3], material: u32 },
+    /// `Builder::spheres[at]`.
+    Sphere { at: u32, material: u32 },
+    /// `Builder::cones[at]`.
+    Cone { at: u32, material: u32 },
+}
+
+// (Kept so: see `Prim`.)
+const _: () = assert!(std::mem::size_of::<Prim>() == 32);
+
+/// A sphere of `Prim::Sphere`: centre and radius.
+#[derive(Clone, Copy, Debug)]
+pub struct SphereDef {
+    pub center: DVec3,
+    pub radius: f64,
+}
+
+/// A cone of `Prim::Cone`, from `a` (radius `r0`) to `b` (radius `r1`):
+/// placed by a similarity, so still a cone (`Builder::cone`).
+#[derive(Clone, Copy, Debug)]
+pub struct ConeDef {
+    pub a: DVec3,
+    pub b: DVec3,
+    pub r0: f64,
+    pub r1: f64,
+    pub capped: bool,
 }
 
 /// The look state objects take with their material.
@@ -162,6 +169,10 @@ pub struct Builder {
     /// any. Shared as `normals` is.
     pub uvs: Arc<Vec<[f32; 2]>>,
     pub prims: Vec<Prim>,
+    /// The spheres and cones of `Prim::Sphere` and `Prim::Cone` (of
+    /// groups and CSGs too; they only grow until `clear`).
+    pub spheres: Vec<SphereDef>,
+    pub cones: Vec<ConeDef>,
     /// Where `motion` changed: from primitive `.0` on, primitives move at
     /// velocity `.1` (scene units per unit of time); none before the first.
     pub motion: Vec<(u32, DVec3)>,
@@ -215,6 +226,14 @@ pub struct Builder {
     pub geometry: u64,
 }
 
+/// The index the next entry of a pool of `len` gets, if a `u32` holds it.
+pub(super) fn next_in_pool(len: usize) -> Result<u32, SceneError> {
+    u32::try_from(len)
+        .ok()
+        .filter(|&i| i < u32::MAX)
+        .ok_or_else(|| SceneError::Invalid("too many spheres or cones: at most 4294967294".into()))
+}
+
 impl Default for Builder {
     fn default() -> Builder {
         Builder {
@@ -230,6 +249,8 @@ impl Default for Builder {
             uvs: Default::default(),
             environment: None,
             prims: Vec::new(),
+            spheres: Vec::new(),
+            cones: Vec::new(),
             motion: Vec::new(),
             objects: Vec::new(),
             transform: DAffine3::IDENTITY,
@@ -568,10 +589,12 @@ impl Builder {
                 let p = corners(&self.mesh_vertices, v);
                 Shape::Triangle(Triangle { p, normals: n, material })
             }
-            Prim::Sphere { center, radius, material } => {
+            Prim::Sphere { at, material } => {
+                let SphereDef { center, radius } = self.spheres[at as usize];
                 Shape::Sphere { center: rel(center), radius: radius as f32, material }
             }
-            Prim::Cone { a, b, r0, r1, capped, material } => {
+            Prim::Cone { at, material } => {
+                let ConeDef { a, b, r0, r1, capped } = self.cones[at as usize];
                 let (axis, h) = ((b - a).normalize(), (b - a).length());
                 Shape::Cone(Cone {
                     base: rel(a),
@@ -599,10 +622,12 @@ impl Builder {
                 Prim::MeshTri { v, .. } => v.iter().for_each(|&i| {
                     grow(self.mesh_vertices[i as usize], self.mesh_vertices[i as usize])
                 }),
-                Prim::Sphere { center, radius, .. } => {
+                Prim::Sphere { at, .. } => {
+                    let SphereDef { center, radius } = self.spheres[at as usize];
                     grow(center - DVec3::splat(radius), center + DVec3::splat(radius))
                 }
-                Prim::Cone { a, b, r0, r1, .. } => {
+                Prim::Cone { at, .. } => {
+                    let ConeDef { a, b, r0, r1, .. } = self.cones[at as usize];
                     let r = DVec3::splat(r0.max(r1));
                     grow(a.min(b) - r, a.max(b) + r)
                 }
@@ -623,8 +648,11 @@ impl Builder {
         };
         let (center, radius) = (position(center)?, radius.min(f32::MAX as f64));
         crate::mem::room(&self.prims, 1)?;
+        crate::mem::room(&self.spheres, 1)?;
         let material = self.material_index()?;
-        self.prims.push(Prim::Sphere { center, radius, material });
+        let at = next_in_pool(self.spheres.len())?;
+        self.spheres.push(SphereDef { center, radius });
+        self.prims.push(Prim::Sphere { at, material });
         Ok(())
     }
 

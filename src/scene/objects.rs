@@ -359,8 +359,11 @@ impl Builder {
             let h = (b - a).length();
             if h.is_finite() && (h as f32) > 0.0 && r0.max(r1) <= f32::MAX as f64 {
                 crate::mem::room(&self.prims, 1)?;
+                crate::mem::room(&self.cones, 1)?;
                 let material = self.material_index()?;
-                self.prims.push(Prim::Cone { a, b, r0, r1, capped, material });
+                let at = super::builder::next_in_pool(self.cones.len())?;
+                self.cones.push(super::builder::ConeDef { a, b, r0, r1, capped });
+                self.prims.push(Prim::Cone { at, material });
                 return Ok(());
             }
         }
