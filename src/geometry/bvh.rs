@@ -419,11 +419,13 @@ impl Bvh {
         let (nodes, depth) = match width {
             #[cfg(target_arch = "x86_64")]
             Width::Eight if let Some(avx) = Avx2::new() => {
-                let (nodes, depth) = widen(&binary, &mut prims, &shape, &mut blocks, &mut recs);
+                let (nodes, depth) =
+                    widen(&binary, (&mut prims, mixed), &shape, &mut blocks, &mut recs);
                 (Nodes::Eight(nodes, avx), depth)
             }
             _ => {
-                let (nodes, depth) = widen(&binary, &mut prims, &shape, &mut blocks, &mut recs);
+                let (nodes, depth) =
+                    widen(&binary, (&mut prims, mixed), &shape, &mut blocks, &mut recs);
                 (Nodes::Four(nodes), depth)
             }
         };
@@ -1179,7 +1181,7 @@ thread_local! {
 /// `Widen`); returns the nodes and the depth.
 fn widen<S: Slots>(
     bin: &[Node],
-    prims: &mut [BuildPrim],
+    (prims, mixed): (&mut [BuildPrim], bool),
     shape: &(impl Fn(usize) -> Shape + Sync),
     blocks: &mut Vec<Block>,
     recs: &mut Vec<Rec>,
@@ -1187,7 +1189,8 @@ fn widen<S: Slots>(
     let nodes = Vec::with_capacity(bin.len() / (S::N - 1) + 1);
     let plan = Plan::new(bin, S::N);
     let chunks = Vec::with_capacity(blocks.capacity());
-    let mut w = Widen { bin, plan, prims, nodes, chunks, depth: 0 };
+    let triangles = !mixed && prims.first().is_none_or(|p| p.kind() == 0);
+    let mut w = Widen { bin, plan, prims, triangles, nodes, chunks, depth: 0 };
     w.run();
     // The blocks and their records, made on all threads (the walk above
     // only says which primitives each holds: packing them one by one took
@@ -1271,7 +1274,7 @@ impl Plan {
 
     /// Appends the slots that cover subtree `i` of `bin` in at most `k`
     /// of them: the fewest that reach the least cost.
-    fn slots(&self, bin: &[Node], i: usize, k: usize, out: &mut Vec<usize>) {
+    fn slots(&self, bin: &[Node], i: usize, k: usize, out: &mut Kids) {
         // A leaf's costs are all 0, so it takes one slot.
         let c = &self.cost[i];
         let k = (1..=k).find(|&j| c[j - 1] == c[k - 1]).unwrap_or(k);
@@ -1286,8 +1289,8 @@ impl Plan {
     }
 
     /// The slots of the wide node that subtree `i` (interior) becomes.
-    fn kids(&self, bin: &[Node], i: usize, width: usize) -> Vec<usize> {
-        let mut kids = Vec::with_capacity(width);
+    fn kids(&self, bin: &[Node], i: usize, width: usize) -> Kids {
+        let mut kids = Kids::new();
         let (l, r) = (i + 1, bin[i].offset as usize);
         let (_, j) = Plan::shared(&self.cost, l, r, width);
         self.slots(bin, l, j, &mut kids);
@@ -1295,6 +1298,9 @@ impl Plan {
         kids
     }
 }
+
+/// The slots of a wide node (`Plan::kids`): no allocation per node.
+type Kids = smallvec::SmallVec<[usize; 8]>;
 
 /// Collapses the binary build tree into a tree of `S::N`-wide nodes as
 /// `Plan` chose. Leaves become blocks of four, triangles first. Nodes are
@@ -1305,6 +1311,9 @@ struct Widen<'a, S> {
     /// The primitives in leaf order (each leaf's are reordered, triangles
     /// first, as they are packed).
     prims: &'a mut [BuildPrim],
+    /// Whether all the primitives are triangles (a mesh's: its leaves'
+    /// primitives are not looked at).
+    triangles: bool,
     nodes: Vec<S>,
     /// The blocks, in order, as the shapes they hold: (first, count).
     chunks: Vec<(u32, u32)>,
@@ -1335,7 +1344,7 @@ impl<S: Slots> Widen<'_, S> {
         // Stable: triangles first, then spheres, cones, objects.
         let start = self.chunks.len() as u32;
         // (A mesh's leaf: all triangles, nothing to sort.)
-        if mine.iter().all(|p| p.kind() == 0) {
+        if self.triangles || mine.iter().all(|p| p.kind() == 0) {
             self.blocks_of(first, count);
             return (start, self.chunks.len() as u32 - start);
         }
