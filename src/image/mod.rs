@@ -74,13 +74,53 @@ fn to_byte(v: f32, enc: Encoding) -> u8 {
 /// makes them: a band of a picture at a time, while it is in cache, for
 /// the renderer.
 pub fn rgb8_of(px: &[Vec3], enc: Encoding, out: &mut [u8]) {
-    // One loop per encoding, so the linear one is a few instructions per
-    // value, which the compiler vectorizes (the encoding was looked up
-    // for each value).
+    // One loop per encoding (the encoding was looked up for each value).
     match enc {
-        Encoding::Linear => bytes(out, px, |v| to_byte(v, Encoding::Linear)),
+        Encoding::Linear => linear_bytes(out, px),
         Encoding::Srgb => bytes(out, px, |v| to_byte(v, Encoding::Srgb)),
     }
+}
+
+/// `bytes` for the linear encoding, sixteen values at a time in SIMD
+/// lanes where the CPU has AVX2: `to_byte`'s clamp (a NaN made 0 by the
+/// lanes' max, as `as u8` makes it), then a truncating conversion and
+/// saturating packs of values known to be in 0.5..=255.5. Value by value
+/// the conversion took a nanosecond a value, 2 ms of each 1024² picture
+/// on two threads. The same bytes (unit test).
+fn linear_bytes(out: &mut [u8], px: &[Vec3]) {
+    let values: &[f32] = bytemuck::cast_slice(px);
+    let done = match () {
+        #[cfg(target_arch = "x86_64")]
+        () if let Some(v3) = pulp::x86::V3::try_new() => sixteen(v3, out, values),
+        () => 0,
+    };
+    bytes(&mut out[done..], &px[done / 3..], |v| to_byte(v, Encoding::Linear));
+}
+
+/// The leading values of `values` into `out`, sixteen at a time, by the
+/// lanes' arithmetic of `linear_bytes`; returns how many, a multiple of 3
+/// (whole pixels).
+#[cfg(target_arch = "x86_64")]
+fn sixteen(v3: pulp::x86::V3, out: &mut [u8], values: &[f32]) -> usize {
+    use std::arch::x86_64::__m128;
+    let n = values.len() / 48 * 48;
+    let (sse, sse2) = (v3.sse, v3.sse2);
+    let (zero, one, scale, half) =
+        (sse._mm_set1_ps(0.0), sse._mm_set1_ps(1.0), sse._mm_set1_ps(255.0), sse._mm_set1_ps(0.5));
+    for (o, v) in out[..n].chunks_exact_mut(16).zip(values[..n].chunks_exact(16)) {
+        let lane = |k: usize| {
+            let x: __m128 =
+                pulp::cast(<[f32; 4]>::try_from(&v[4 * k..4 * k + 4]).unwrap_or_default());
+            // max(x, 0) is 0 for a NaN x (the second operand).
+            let x = sse._mm_min_ps(sse._mm_max_ps(x, zero), one);
+            sse2._mm_cvttps_epi32(sse._mm_add_ps(sse._mm_mul_ps(x, scale), half))
+        };
+        let (a, b) =
+            (sse2._mm_packs_epi32(lane(0), lane(1)), sse2._mm_packs_epi32(lane(2), lane(3)));
+        let bytes: [u8; 16] = pulp::cast(sse2._mm_packus_epi16(a, b));
+        o.copy_from_slice(&bytes);
+    }
+    n
 }
 
 /// `px` into bytes `o`, each value by `byte`.
@@ -595,6 +635,41 @@ mod tests {
             assert_eq!(to_byte(f32::NAN, enc), 0);
             assert_eq!(to_byte(f32::INFINITY, enc), 255);
             assert_eq!(to_byte(f32::NEG_INFINITY, enc), 0);
+        }
+    }
+
+    /// The linear encoding's vectorized loop (`linear_bytes`) makes the
+    /// bytes `to_byte` makes, value by value, for odd values and those at
+    /// and around every byte's edges, in every position of a four-pixel
+    /// group and in the remainder.
+    #[test]
+    fn linear_bytes_are_to_bytes() {
+        // Every value at and around each byte's edges, and the odd ones.
+        let mut values = vec![f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0, 0.0, -1.0, 2.0];
+        values.extend([f32::MIN_POSITIVE, 1e-30, f32::MAX, f32::MIN, 0.5, 1.0]);
+        for k in 0..=256 {
+            let edge = (k as f32 - 0.5) / 255.0;
+            let mut x = edge;
+            for _ in 0..4 {
+                x = x.next_down();
+            }
+            for _ in 0..9 {
+                values.push(x);
+                x = x.next_up();
+            }
+        }
+        for n in 0..values.len() {
+            let px: Vec<Vec3> = values[n..]
+                .chunks(3)
+                .map(|c| Vec3::new(c[0], c[c.len().min(2) - 1], c[c.len() - 1]))
+                .collect();
+            let mut out = vec![0u8; px.len() * 3];
+            rgb8_of(&px, Encoding::Linear, &mut out);
+            let want: Vec<u8> = px
+                .iter()
+                .flat_map(|p| [p.x, p.y, p.z].map(|v| to_byte(v, Encoding::Linear)))
+                .collect();
+            assert_eq!(out, want, "from value {n}");
         }
     }
 
