@@ -36,7 +36,9 @@
 //!   tracer (`path`: next-event estimation with MIS, Russian roulette),
 //!   parallel over tiles; `sample`: hashed random numbers, stratified points (CMJ) and
 //!   filter importance sampling; `job` says which pixels (crops), in what
-//!   order (progressive passes), and carries progress and cancellation.
+//!   order (progressive passes), and carries progress and cancellation;
+//!   a picture for a file gets its look and its bytes band by band as it
+//!   is traced (`render_finished`).
 //! - `image`: the linear f32 image, PPM and PNG writers and readers (with a
 //!   crop's placement).
 //! - `mem`: the memory budget: a counting allocator, `reserve` before big

@@ -195,10 +195,8 @@ pub(crate) fn per_block<T: Send + Copy>(
         None => (&mut none[..], 1, None),
     };
     let last = passes[passes.len() - 1];
-    let mut stats = RayStats::default();
-    for &s in passes {
-        let pass_stats = buf
-            .par_chunks_mut(band)
+    in_passes(job, passes, |s| {
+        buf.par_chunks_mut(band)
             .zip(bytes.par_chunks_mut(per_band))
             .enumerate()
             .map(|(band, (px, bytes))| {
@@ -228,8 +226,16 @@ pub(crate) fn per_block<T: Send + Copy>(
                 }
                 st
             })
-            .reduce(RayStats::default, RayStats::add);
-        stats = stats.add(pass_stats);
+            .reduce(RayStats::default, RayStats::add)
+    })
+}
+
+/// Runs `pass(stride)` for each pass of `passes` in turn, adding up their
+/// ray counts; `None` when the job is cancelled.
+fn in_passes(job: &Job, passes: &[u32], mut pass: impl FnMut(u32) -> RayStats) -> Option<RayStats> {
+    let mut stats = RayStats::default();
+    for &s in passes {
+        stats = stats.add(pass(s));
         if job.cancelled() {
             return None;
         }
@@ -247,9 +253,8 @@ fn per_tile<T: Send + Copy>(
     f: impl Fn(&[(u32, u32)], &mut RayStats, &mut Vec<T>) + Sync,
 ) -> Option<RayStats> {
     let tiles = tiles(r);
-    let mut stats = RayStats::default();
-    for &s in passes {
-        let pass_stats = tiles
+    in_passes(job, passes, |s| {
+        tiles
             .par_iter()
             .map(|&(x0, y0)| {
                 let mut st = RayStats::default();
@@ -268,14 +273,8 @@ fn per_tile<T: Send + Copy>(
                 job.done.fetch_add(done.len() as u64, Ordering::Relaxed);
                 st
             })
-            .reduce(RayStats::default, RayStats::add);
-        stats = stats.add(pass_stats);
-        if job.cancelled() {
-            return None;
-        }
-        job.pass_done.store(s as u64, Ordering::Relaxed);
-    }
-    Some(stats)
+            .reduce(RayStats::default, RayStats::add)
+    })
 }
 
 /// Calls `each(pixels)` for each block of the tile `x0..x1` by `y0..y1`
