@@ -70,7 +70,7 @@ impl Rays {
     /// The rays whose own slab test (`wide::slab4`'s arithmetic) enters
     /// box `b` within `(t_min, t_max[i])`: bit i for ray i.
     #[inline(always)]
-    fn entering(&self, b: &Aabb, t_min: f32, t_max: &[f32; PACKET]) -> u64 {
+    pub(super) fn entering(&self, b: &Aabb, t_min: f32, t_max: &[f32; PACKET]) -> u64 {
         let f = &self.frustum;
         let d = |axis: usize, side: usize| {
             let plane = if side == 0 { b.min[axis] } else { b.max[axis] };
@@ -87,6 +87,47 @@ impl Rays {
             mask |= (near.cmple(far).bitmask() as u64) << (4 * g);
         }
         mask
+    }
+
+    /// `entering` eight rays a pass (AVX2): each lane does the four-lane
+    /// test's arithmetic, operand for operand, so the mask is the same
+    /// to the bit (lanes past the packet's rays have no segment).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(super) fn entering8(
+        &self,
+        v3: pulp::x86::V3,
+        b: &Aabb,
+        t_min: f32,
+        t_max: &[f32; PACKET],
+    ) -> u64 {
+        use std::arch::x86_64::{__m256, _CMP_LE_OS};
+        let (avx, f) = (v3.avx, &self.frustum);
+        let d = |axis: usize, side: usize| {
+            let plane = if side == 0 { b.min[axis] } else { b.max[axis] };
+            avx._mm256_set1_ps(plane - f.org[axis])
+        };
+        let [nx, ny, nz] = f.near;
+        let (dn, df) = ([d(0, nx), d(1, ny), d(2, nz)], [d(0, nx ^ 1), d(1, ny ^ 1), d(2, nz ^ 1)]);
+        let (lo, hi) = (avx._mm256_set1_ps(t_min), avx._mm256_set1_ps(ROBUST));
+        let (min, max) = (|a, b| avx._mm256_min_ps(a, b), |a, b| avx._mm256_max_ps(a, b));
+        let mut mask = 0;
+        for g in 0..self.groups.div_ceil(2).min(GROUPS / 2) {
+            let inv = |axis: usize| -> __m256 {
+                pulp::cast([self.inv[axis][2 * g], self.inv[axis][2 * g + 1]])
+            };
+            let inv = [inv(0), inv(1), inv(2)];
+            let t = |d: &[__m256; 3], axis: usize| avx._mm256_mul_ps(d[axis], inv[axis]);
+            let near = max(max(t(&dn, 0), t(&dn, 1)), max(t(&dn, 2), lo));
+            let far8: [f32; 8] =
+                t_max[8 * g..8 * g + 8].try_into().unwrap_or([f32::NEG_INFINITY; 8]);
+            let far = min(min(t(&df, 0), t(&df, 1)), min(t(&df, 2), pulp::cast(far8)));
+            let far = avx._mm256_mul_ps(far, hi);
+            let m = avx._mm256_movemask_ps(avx._mm256_cmp_ps::<_CMP_LE_OS>(near, far));
+            mask |= (m as u32 as u64) << (8 * g);
+        }
+        // (The last group's upper lanes hold no rays: no segment.)
+        mask & (u64::MAX >> (PACKET - (4 * self.groups).min(PACKET)))
     }
 }
 
@@ -276,7 +317,7 @@ impl Bvh {
                 continue;
             }
             let b = nodes[e.node as usize].bounds(e.slot as usize);
-            let mut rays = p.entering(&b, t_min, t_max);
+            let mut rays = kernel.entering(p, &b, t_min, t_max);
             if rays == 0 {
                 continue;
             }

@@ -425,6 +425,44 @@ fn widths_agree() {
     }
 }
 
+/// The eight-lane leaf-box test of a packet (`Rays::entering8`) gives
+/// the four-lane test's mask to the bit: packets of 2 to 64 rays (odd
+/// groups of four included), boxes around, beside, behind and on the
+/// origin, segments cut short for some rays.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn eight_lane_entering_is_four_lane_entering() {
+    let Some(v3) = pulp::x86::V3::try_new() else { return };
+    let (mut seed, mut some, mut partial) = (5, 0, 0);
+    for k in 0..2000 {
+        let n = [64, 37, 2, 9, 63, 4][k % 6];
+        let o = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 4.0 - 2.0;
+        let dir = Vec3::new(lcg(&mut seed) + 0.1, lcg(&mut seed) + 0.1, lcg(&mut seed) + 0.1);
+        let spread = [0.001, 0.05, 0.3][k % 3];
+        let rays: Vec<Ray> = (0..n)
+            .map(|i| {
+                let (x, y) = ((i % 8) as f32 * spread, (i / 8) as f32 * spread);
+                Ray::new(o, dir + Vec3::new(x, y, x * 0.5))
+            })
+            .collect();
+        let Some(p) = packet::Rays::new(&rays) else { continue };
+        let c = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 8.0 - 3.0;
+        let h = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * [0.1, 1.0, 4.0][k % 3];
+        let b = Aabb { min: (c - h).into(), max: (c + h).into() };
+        let mut t_max = [f32::NEG_INFINITY; packet::PACKET];
+        for (i, t) in t_max.iter_mut().enumerate().take(n) {
+            *t = if i % 5 == 0 { lcg(&mut seed) * 6.0 } else { f32::INFINITY };
+        }
+        let t_min = [0.0, 0.5][k % 2];
+        let four = p.entering(&b, t_min, &t_max);
+        assert_eq!(p.entering8(v3, &b, t_min, &t_max), four, "packet {k}");
+        some += (four != 0) as u32;
+        partial += (four != 0 && four.count_ones() < n as u32) as u32;
+    }
+    // Boxes entered by all, some and none of a packet's rays.
+    assert!(some > 200 && partial > 50, "{some} {partial}");
+}
+
 /// A packet finds each of its rays' hits as the ray alone does, to the
 /// bit (distance, primitive, barycentrics), in trees of either width:
 /// packets narrow and wide, whole and partial, some with directions of

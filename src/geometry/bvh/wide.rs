@@ -14,6 +14,7 @@ use glam::Vec4;
 use super::super::Aabb;
 use super::super::Ray;
 use super::super::aabb::ROBUST;
+use super::packet::{PACKET, Rays};
 
 /// What the tree builder needs of a node: `N` child slots, each a box and
 /// a child reference (`count` 0: an interior node at `child`; otherwise a
@@ -59,6 +60,11 @@ pub(super) trait Kernel: Copy {
         t_min: f32,
         t_max: f32,
     ) -> (u32, Self::Near);
+    /// `Rays::entering`: the rays of `p` that enter box `b`.
+    #[inline(always)]
+    fn entering(self, p: &Rays, b: &Aabb, t_min: f32, t_max: &[f32; PACKET]) -> u64 {
+        p.entering(b, t_min, t_max)
+    }
 }
 
 /// A packet of rays from one origin whose directions' components have
@@ -274,7 +280,7 @@ mod avx {
     use pulp::x86::V3;
     use std::arch::x86_64::{__m256, _CMP_LE_OS};
 
-    use super::{Frustum, Kernel, ROBUST, Ray, inv, near_planes};
+    use super::{Aabb, Frustum, Kernel, PACKET, ROBUST, Ray, Rays, inv, near_planes};
 
     /// The 8-wide node.
     pub(in super::super) type Wide8 = super::Wide<8>;
@@ -348,6 +354,11 @@ mod avx {
             );
             let mask = avx._mm256_movemask_ps(avx._mm256_cmp_ps::<_CMP_LE_OS>(near, far));
             (mask as u32, pulp::cast(near))
+        }
+
+        #[inline(always)]
+        fn entering(self, p: &Rays, b: &Aabb, t_min: f32, t_max: &[f32; PACKET]) -> u64 {
+            p.entering8(self.0, b, t_min, t_max)
         }
 
         #[inline(always)]
