@@ -463,6 +463,40 @@ fn eight_lane_entering_is_four_lane_entering() {
     assert!(some > 200 && partial > 50, "{some} {partial}");
 }
 
+/// The same for shadow packets (`Segments::entering8`): segments from
+/// points spread on a surface toward a light, some of them no longer
+/// live.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn eight_lane_segments_entering_is_four_lane() {
+    let Some(v3) = pulp::x86::V3::try_new() else { return };
+    let (mut seed, mut some) = (11, 0);
+    for k in 0..2000 {
+        let n = [64, 37, 2, 9, 63, 4][k % 6];
+        let light = Vec3::new(20.0, 30.0, 25.0);
+        let spread = [0.01, 0.1, 1.0][k % 3];
+        let base = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 4.0;
+        let (rays, ends): (Vec<Ray>, Vec<f32>) = (0..n)
+            .map(|i| {
+                let o = base + Vec3::new((i % 8) as f32, 0.0, (i / 8) as f32) * spread;
+                let d = light - o;
+                (Ray::new(o, d.normalize()), d.length())
+            })
+            .unzip();
+        let Some(p) = shadow::Segments::new(&rays, &ends) else { continue };
+        let mut t_max = [f32::NEG_INFINITY; packet::PACKET];
+        t_max[..n].copy_from_slice(&ends);
+        let live = (0..n).fold(0u64, |m, i| m | ((lcg(&mut seed) < 0.8) as u64) << i);
+        let c = base + Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 12.0;
+        let h = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * [0.2, 1.0, 5.0][k % 3];
+        let b = Aabb { min: (c - h).into(), max: (c + h).into() };
+        let four = p.entering(&b, &t_max, live);
+        assert_eq!(p.entering8(v3, &b, &t_max, live), four, "packet {k}");
+        some += (four != 0) as u32;
+    }
+    assert!(some > 100, "{some}");
+}
+
 /// A packet finds each of its rays' hits as the ray alone does, to the
 /// bit (distance, primitive, barycentrics), in trees of either width:
 /// packets narrow and wide, whole and partial, some with directions of

@@ -15,6 +15,7 @@ use super::super::Aabb;
 use super::super::Ray;
 use super::super::aabb::ROBUST;
 use super::packet::{PACKET, Rays};
+use super::shadow::Segments;
 
 /// What the tree builder needs of a node: `N` child slots, each a box and
 /// a child reference (`count` 0: an interior node at `child`; otherwise a
@@ -64,6 +65,11 @@ pub(super) trait Kernel: Copy {
     #[inline(always)]
     fn entering(self, p: &Rays, b: &Aabb, t_min: f32, t_max: &[f32; PACKET]) -> u64 {
         p.entering(b, t_min, t_max)
+    }
+    /// `Segments::entering`: the live shadow rays of `p` that enter `b`.
+    #[inline(always)]
+    fn segments_entering(self, p: &Segments, b: &Aabb, t_max: &[f32; PACKET], live: u64) -> u64 {
+        p.entering(b, t_max, live)
     }
 }
 
@@ -280,7 +286,7 @@ mod avx {
     use pulp::x86::V3;
     use std::arch::x86_64::{__m256, _CMP_LE_OS};
 
-    use super::{Aabb, Frustum, Kernel, PACKET, ROBUST, Ray, Rays, inv, near_planes};
+    use super::{Aabb, Frustum, Kernel, PACKET, ROBUST, Ray, Rays, Segments, inv, near_planes};
 
     /// The 8-wide node.
     pub(in super::super) type Wide8 = super::Wide<8>;
@@ -359,6 +365,17 @@ mod avx {
         #[inline(always)]
         fn entering(self, p: &Rays, b: &Aabb, t_min: f32, t_max: &[f32; PACKET]) -> u64 {
             p.entering8(self.0, b, t_min, t_max)
+        }
+
+        #[inline(always)]
+        fn segments_entering(
+            self,
+            p: &Segments,
+            b: &Aabb,
+            t_max: &[f32; PACKET],
+            live: u64,
+        ) -> u64 {
+            p.entering8(self.0, b, t_max, live)
         }
 
         #[inline(always)]
