@@ -237,26 +237,15 @@ fn render_bands(
         }
     };
     let sampling = &scene.sampling;
-    let finish = |px: &mut [Vec3], out: &mut [u8], enc: Encoding| {
-        if has_look(sampling) {
-            px.iter_mut().for_each(|p| *p = sampling.look(*p));
-        }
+    let enc = bytes.as_ref().map_or(Encoding::Linear, |b| b.1);
+    let finish = |px: &mut [Vec3], out: &mut [u8]| {
+        look_pixels(sampling, px);
         crate::image::rgb8_of(px, enc, out);
     };
-    let (finish_linear, finish_srgb) = (
-        |px: &mut [Vec3], out: &mut [u8]| finish(px, out, Encoding::Linear),
-        |px: &mut [Vec3], out: &mut [u8]| finish(px, out, Encoding::Srgb),
-    );
     let finished = job.canvas.is_none() && bytes.is_some();
     let out = match (job.canvas, bytes) {
         (Some(c), _) => Out::Shared(c),
-        (None, Some((bytes, enc))) => {
-            let f: &(dyn Fn(&mut [Vec3], &mut [u8]) + Sync) = match enc {
-                Encoding::Linear => &finish_linear,
-                Encoding::Srgb => &finish_srgb,
-            };
-            Out::Finished(&mut own, Finish::new(bytes, n, 3, f))
-        }
+        (None, Some((bytes, _))) => Out::Finished(&mut own, Finish::new(bytes, n, 3, &finish)),
         (None, None) => Out::Own(&mut own),
     };
     let table = FilterTable::new(sampling.filter);
@@ -515,14 +504,14 @@ impl PixelSum {
 /// Applies the scene's exposure and tone map to a rendered picture (the
 /// last step before it is written).
 pub fn apply_look(sampling: &crate::scene::Sampling, img: &mut Image) {
-    if has_look(sampling) {
-        img.pixels.iter_mut().for_each(|p| *p = sampling.look(*p));
-    }
+    look_pixels(sampling, &mut img.pixels);
 }
 
-/// Whether `Sampling::look` changes any colour.
-fn has_look(sampling: &crate::scene::Sampling) -> bool {
-    sampling.exposure != 0.0 || sampling.tonemap != crate::scene::Tonemap::Clamp
+/// `Sampling::look` on each of `px`, unless it changes no colour.
+fn look_pixels(sampling: &crate::scene::Sampling, px: &mut [Vec3]) {
+    if sampling.exposure != 0.0 || sampling.tonemap != crate::scene::Tonemap::Clamp {
+        px.iter_mut().for_each(|p| *p = sampling.look(*p));
+    }
 }
 
 /// The cost picture: each pixel coloured by the BVH traversal steps of its
