@@ -378,7 +378,7 @@ pub const SCENE: &[Doc] = &[
     },
     Doc {
         name: "mesh",
-        meaning: "add an OBJ mesh (read with tobj; a name ending in `.gz` is read as gzip-compressed OBJ) with the current material, scaled then moved; polygons are triangulated; smooth normals from `vn`, or computed from the faces (area-weighted) when the file has none; texture coordinates from `vt` (for `texture image FILE uv`); `-flat` turns smoothing off; `-subdivide n` splits each triangle into four, n times (then `displace` moves the vertices); the current transform places it too; returns the triangle count (its vertices keep out of the `vertex` pool, so `vertex` numbering is unaffected). A bad file is an error naming its line (`bunny.obj:12: bad OBJ line \"f 1 2 x\"`)",
+        meaning: "add an OBJ mesh (read in one pass of our own, tobj reading the files that pass leaves to it; a name ending in `.gz` is read as gzip-compressed OBJ) with the current material, scaled then moved; polygons are triangulated; smooth normals from `vn`, or computed from the faces (area-weighted) when the file has none; texture coordinates from `vt` (for `texture image FILE uv`); `-flat` turns smoothing off; `-subdivide n` splits each triangle into four, n times (then `displace` moves the vertices); the current transform places it too; returns the triangle count (its vertices keep out of the `vertex` pool, so `vertex` numbering is unaffected). A bad file is an error naming its line (`bunny.obj:12: bad OBJ line \"f 1 2 x\"`)",
         default: "",
         example: "mesh bunny.obj.gz -scale 6 -translate 0 -0.2 0",
     },

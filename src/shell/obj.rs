@@ -1,8 +1,18 @@
-//! Reading Wavefront OBJ meshes (with tobj; gzip-compressed with flate2)
-//! into `scene::MeshData`. Polygons
-//! are triangulated; `vn` normals and `vt` texture coordinates are kept
-//! (each only when every face has them); materials and groups are ignored. Each line is checked on its way to tobj, so a bad one is named
-//! by its line number.
+//! Reading Wavefront OBJ meshes into `scene::MeshData` (gzip-compressed
+//! with flate2). Polygons are triangulated; `vn` normals and `vt` texture
+//! coordinates are kept (each only when every face has them); materials
+//! and groups are ignored.
+//!
+//! Two readers, one result. tobj is the reference: each line is checked on
+//! its way to it, so a bad one is named by its line number. Most files
+//! (one object, faces of one form, plain `v`/`vn`/`vt` lines) are read by
+//! `Fast`, a single pass over the bytes that makes what tobj makes, down
+//! to the order of the vertices; it hands anything else (an error, a
+//! second object, a `w` coordinate, a vertex colour, a line tobj reads
+//! with a quirk) back to tobj, which reads the file again from the start.
+//! tobj took 36-90 ms for the 69k-triangle bunny, most of it checking
+//! each line and then parsing it again, hashing each corner and growing
+//! its vectors; `Fast` takes a few.
 
 use std::io::{BufRead, Read};
 
@@ -12,19 +22,45 @@ use crate::scene::MeshData;
 
 /// Reads an OBJ file; a name ending in `.gz` is gzip-compressed OBJ.
 pub fn load(path: &str) -> Result<MeshData, String> {
+    if let Some(mesh) = Fast::read(open(path)?) {
+        return Ok(mesh);
+    }
+    load_with_tobj(path)
+}
+
+/// `load` by tobj alone (the reference `Fast` is checked against).
+pub fn load_with_tobj(path: &str) -> Result<MeshData, String> {
+    from_reader(path, open(path)?)
+}
+
+/// The file at `path`, buffered, decompressed when its name ends in `.gz`.
+/// Streamed: a large file is never held in memory whole.
+fn open(path: &str) -> Result<Box<dyn BufRead>, String> {
     let file = std::fs::File::open(path)
         .map_err(|e| format!("couldn't read \"{path}\": {}", super::io_reason(&e)))?;
-    // Streamed: a large file is never held in memory whole.
     if path.ends_with(".gz") {
         let gz = flate2::read::GzDecoder::new(std::io::BufReader::new(file));
-        return from_reader(path, std::io::BufReader::new(gz));
+        return Ok(Box::new(std::io::BufReader::with_capacity(CHUNK, gz)));
     }
-    from_reader(path, std::io::BufReader::new(file))
+    Ok(Box::new(std::io::BufReader::with_capacity(CHUNK, file)))
 }
 
 /// Parses OBJ text held in memory; `path` names it in messages.
 pub fn parse(path: &str, bytes: &[u8]) -> Result<MeshData, String> {
+    if let Some(mesh) = Fast::read(bytes) {
+        return Ok(mesh);
+    }
+    parse_with_tobj(path, bytes)
+}
+
+/// `parse` by tobj alone.
+pub fn parse_with_tobj(path: &str, bytes: &[u8]) -> Result<MeshData, String> {
     from_reader(path, bytes)
+}
+
+/// `Fast` alone: the mesh, or `None` where it leaves the file to tobj.
+pub fn parse_fast(bytes: &[u8]) -> Option<MeshData> {
+    Fast::read(bytes)
 }
 
 fn from_reader(path: &str, reader: impl BufRead) -> Result<MeshData, String> {
@@ -94,6 +130,241 @@ fn from_reader(path: &str, reader: impl BufRead) -> Result<MeshData, String> {
         return Err(format!("{path}: the file has no faces"));
     }
     Ok(mesh)
+}
+
+/// The bytes `Fast` reads at a time.
+const CHUNK: usize = 1 << 20;
+
+/// The single-pass reader of the common OBJ file (see the module's notes).
+/// It makes tobj's mesh of one object: each pool (positions, normals,
+/// texture coordinates) holds the entries the faces use, in the order
+/// their corners first use them, and polygons become fans, (a, b, c),
+/// (a, c, d), and so on.
+#[derive(Default)]
+struct Fast {
+    /// Every `v`, `vn` and `vt` line's values so far, in the file's order.
+    v: Vec<Vec3>,
+    vn: Vec<Vec3>,
+    vt: Vec<[f32; 2]>,
+    /// Each pool entry's number in the mesh, once a corner has used it
+    /// (`u32::MAX` before).
+    v_at: Vec<u32>,
+    vn_at: Vec<u32>,
+    vt_at: Vec<u32>,
+    /// Whether the faces' corners give texture coordinates and normals
+    /// (one form for all of them; set by the first face).
+    form: Option<(bool, bool)>,
+    mesh: MeshData,
+    normal_tris: Vec<[u32; 3]>,
+    uv_tris: Vec<[u32; 3]>,
+    lines: usize,
+}
+
+/// What a line was to `Fast`.
+enum Line {
+    Done,
+    /// Left to tobj.
+    Tobj,
+}
+
+impl Fast {
+    /// The mesh of the OBJ text `reader` gives, or `None` where the file
+    /// is one for tobj (and a read error: tobj reads it again and says).
+    fn read(mut reader: impl BufRead) -> Option<MeshData> {
+        let mut fast = Fast::default();
+        let mut carry: Vec<u8> = Vec::new();
+        loop {
+            let chunk = reader.fill_buf().ok()?;
+            if chunk.is_empty() {
+                break;
+            }
+            let n = chunk.len();
+            // Whole lines from the chunk; a line cut at its end waits in
+            // `carry` for the rest.
+            let lines = match chunk.iter().rposition(|&b| b == b'\n') {
+                Some(end) if carry.is_empty() => {
+                    fast.lines_of(&chunk[..=end])?;
+                    &chunk[end + 1..]
+                }
+                Some(end) => {
+                    carry.extend_from_slice(&chunk[..=end]);
+                    fast.lines_of(&carry)?;
+                    carry.clear();
+                    &chunk[end + 1..]
+                }
+                None => chunk,
+            };
+            carry.extend_from_slice(lines);
+            if carry.len() as u64 > MAX_LINE {
+                return None;
+            }
+            reader.consume(n);
+        }
+        fast.lines_of(&carry)?;
+        fast.finish()
+    }
+
+    /// Reads the lines of `text` (whole lines).
+    fn lines_of(&mut self, text: &[u8]) -> Option<()> {
+        for line in text.split(|&b| b == b'\n') {
+            // A UTF-8 byte order mark opening the file is not OBJ text.
+            let line = match self.lines {
+                0 => line.strip_prefix(b"\xef\xbb\xbf").unwrap_or(line),
+                _ => line,
+            };
+            self.lines += 1;
+            if self.lines.is_multiple_of(4096)
+                && (crate::mem::check().is_err()
+                    || super::feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed))
+            {
+                return None;
+            }
+            match self.line(line) {
+                Line::Done => {}
+                Line::Tobj => return None,
+            }
+        }
+        Some(())
+    }
+
+    /// One line (without its newline).
+    fn line(&mut self, line: &[u8]) -> Line {
+        // (Outside ASCII, and in it the vertical tab, tobj splits words on
+        // more than `Fast` does.)
+        if !line.is_ascii() || line.contains(&0x0b) {
+            return Line::Tobj;
+        }
+        let mut words = line.split(|b| b.is_ascii_whitespace()).filter(|w| !w.is_empty());
+        let Some(first) = words.next() else { return Line::Done };
+        let done = match first {
+            b"v" => {
+                let p = floats::<3>(&mut words);
+                // (A fourth value is a weight, six a colour: tobj's.)
+                p.filter(|_| words.next().is_none()).map(|p| self.v.push(Vec3::from(p)))
+            }
+            b"vn" => {
+                let n = floats::<3>(&mut words);
+                n.filter(|_| words.next().is_none()).map(|n| self.vn.push(Vec3::from(n)))
+            }
+            // u and v (a third, w, is ignored, as tobj ignores it).
+            b"vt" => floats::<2>(&mut words).map(|t| self.vt.push(t)),
+            b"f" => self.face(words),
+            // A new object after faces is a model of its own in tobj, its
+            // pools numbered apart.
+            b"o" | b"g" => self.mesh.tris.is_empty().then_some(()),
+            // (No material is ever loaded, so none splits the mesh; a
+            // name is needed, after a space.)
+            b"usemtl" => {
+                let name = line.iter().position(|&b| b == b' ').map_or(&[][..], |k| &line[k + 1..]);
+                (!name.trim_ascii().is_empty()).then_some(())
+            }
+            // tobj reads a polyline's corners as a face's.
+            b"l" => None,
+            _ => Some(()),
+        };
+        if done.is_some() { Line::Done } else { Line::Tobj }
+    }
+
+    /// A face line's corners (after `f`), as fans of triangles.
+    fn face<'a>(&mut self, words: impl Iterator<Item = &'a [u8]>) -> Option<()> {
+        let mut first = [0u32; 3];
+        let mut last = [0u32; 3];
+        let mut n = 0;
+        for word in words {
+            let mut parts = word.split(|&b| b == b'/');
+            let v = index(parts.next()?, self.v.len())?;
+            let (vt, vn) = match (parts.next(), parts.next(), parts.next()) {
+                (None, _, _) => (None, None),
+                (Some(t), None, _) => (Some(index(t, self.vt.len())?), None),
+                (Some(b""), Some(nrm), None) => (None, Some(index(nrm, self.vn.len())?)),
+                (Some(t), Some(nrm), None) => {
+                    (Some(index(t, self.vt.len())?), Some(index(nrm, self.vn.len())?))
+                }
+                _ => return None,
+            };
+            let form = (vt.is_some(), vn.is_some());
+            if *self.form.get_or_insert(form) != form {
+                return None;
+            }
+            let corner = [
+                at(&mut self.v_at, v, &self.v, &mut self.mesh.positions),
+                vt.map_or(0, |t| at(&mut self.vt_at, t, &self.vt, &mut self.mesh.uvs)),
+                vn.map_or(0, |k| at(&mut self.vn_at, k, &self.vn, &mut self.mesh.normals)),
+            ];
+            n += 1;
+            if n == 1 {
+                first = corner;
+            } else if n >= 3 {
+                let tri = |k: usize| [first[k], last[k], corner[k]];
+                self.mesh.tris.push(tri(0));
+                if form.0 {
+                    self.uv_tris.push(tri(1));
+                }
+                if form.1 {
+                    self.normal_tris.push(tri(2));
+                }
+            }
+            last = corner;
+        }
+        (n >= 3).then_some(())
+    }
+
+    /// The mesh, or `None` where tobj makes something else of the file.
+    fn finish(self) -> Option<MeshData> {
+        let Fast { vn, vt, form, mut mesh, normal_tris, uv_tris, .. } = self;
+        let (uvs, normals) = form?;
+        // Pools the faces do not use: tobj gives each corner an entry of
+        // them all the same.
+        if (!vt.is_empty() && !uvs) || (!vn.is_empty() && !normals) {
+            return None;
+        }
+        mesh.uv_tris = uvs.then_some(uv_tris);
+        mesh.normal_tris = normals.then_some(normal_tris);
+        Some(mesh)
+    }
+}
+
+/// `N` finite numbers from `words` (f32, parsed as tobj parses them).
+fn floats<'a, const N: usize>(words: &mut impl Iterator<Item = &'a [u8]>) -> Option<[f32; N]> {
+    let mut out = [0.0; N];
+    for o in &mut out {
+        // (ASCII, so UTF-8.)
+        let x: f32 = std::str::from_utf8(words.next()?).ok()?.parse().ok()?;
+        *o = x.is_finite().then_some(x)?;
+    }
+    Some(out)
+}
+
+/// A corner's index into a pool of `n` entries so far, from 0: 1 to n, or
+/// -n to -1 counted back from the last.
+fn index(word: &[u8], n: usize) -> Option<usize> {
+    let (negative, digits) = match word.split_first()? {
+        (b'-', rest) => (true, rest),
+        _ => (false, word),
+    };
+    if digits.is_empty() || digits.len() > 18 || !digits.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    let k = digits.iter().fold(0usize, |a, &d| a * 10 + (d - b'0') as usize);
+    match (negative, k) {
+        (_, 0) => None,
+        (false, k) if k <= n => Some(k - 1),
+        (true, k) if k <= n => Some(n - k),
+        _ => None,
+    }
+}
+
+/// Pool entry `i`'s number in the mesh, given it (from `pool` into `out`)
+/// at its first use.
+fn at<T: Copy>(numbers: &mut Vec<u32>, i: usize, pool: &[T], out: &mut Vec<T>) -> u32 {
+    if numbers.len() < pool.len() {
+        numbers.resize(pool.len(), u32::MAX);
+    }
+    if numbers[i] == u32::MAX {
+        numbers[i] = out.len() as u32;
+        out.push(pool[i]);
+    }
+    numbers[i]
 }
 
 /// A line-by-line filter in front of tobj: it checks each line as it
@@ -222,5 +493,103 @@ impl<R: BufRead> BufRead for Checked<R> {
 
     fn consume(&mut self, n: usize) {
         self.pos = (self.pos + n).min(self.buf.len());
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A mesh's values, bit for bit: pools and triangles, then the
+    /// corners' normals and texture coordinates.
+    type Bits = (Vec<[u32; 3]>, Vec<[u32; 3]>, Vec<[u32; 2]>, Vec<[u32; 3]>);
+    type Corners = Option<Vec<[u32; 3]>>;
+
+    fn bits(m: &MeshData) -> (Bits, Corners, Corners) {
+        let v3 = |v: &Vec<Vec3>| v.iter().map(|p| p.to_array().map(f32::to_bits)).collect();
+        let uv = m.uvs.iter().map(|t| t.map(f32::to_bits)).collect();
+        (
+            (v3(&m.positions), v3(&m.normals), uv, m.tris.clone()),
+            m.normal_tris.clone(),
+            m.uv_tris.clone(),
+        )
+    }
+
+    /// `Fast` reads `text` and makes tobj's mesh of it.
+    fn same(text: &str) {
+        let fast = parse_fast(text.as_bytes()).unwrap_or_else(|| panic!("left to tobj:\n{text}"));
+        let tobj = parse_with_tobj("t.obj", text.as_bytes()).expect("tobj reads it");
+        assert_eq!(bits(&fast), bits(&tobj), "{text}");
+    }
+
+    /// `Fast` leaves `text` to tobj, and `parse` gives tobj's answer.
+    fn left(text: &str) {
+        assert!(parse_fast(text.as_bytes()).is_none(), "read by Fast:\n{text}");
+        let ours = parse("t.obj", text.as_bytes()).map(|m| bits(&m));
+        assert_eq!(ours, parse_with_tobj("t.obj", text.as_bytes()).map(|m| bits(&m)));
+    }
+
+    const QUAD: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
+
+    #[test]
+    fn fast_reader_makes_tobjs_mesh() {
+        same("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+        // Pools numbered by first use; unused entries dropped; fans.
+        same(
+            "v 9 9 9\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 2 0\nf 5 4 3 2\nf 2 3 6\nf 6 5 4 3 2\n",
+        );
+        same(&format!("{QUAD}f -4 -3 -2 -1\nv 2 2 2\nf -1 -2 -3\n"));
+        same(&format!("{QUAD}vt 0 0\nvt 1 0 0.5\nvt 1 1\nf 1/3 2/2 3/1\nf 1/1 3/3 4/2\n"));
+        same(&format!("{QUAD}vn 0 0 1\nvn 0 0 -1\nf 1//2 2//2 3//1 4//1\n"));
+        same(&format!("{QUAD}vt 0 0\nvt 1 0\nvn 0 0 1\nf 4/2/1 3/1/1 2/2/1 1/1/1\n"));
+        // Comments, blank lines, CRLF, tabs, a byte order mark, names
+        // before the faces, materials, smoothing groups.
+        same(&format!(
+            "\u{feff}# a quad\r\nmtllib x.mtl\r\no quad\r\ng side\r\n\r\n{}usemtl red\r\ns off\r\nf\t1  2 3 4 \r\n",
+            QUAD.replace('\n', "\r\n")
+        ));
+        // Pools given after the faces that use them.
+        same("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\nvt 1 1\nv 5 5 5\n");
+        // No newline at the end; numbers in other notations.
+        same("v 1e-3 -0 .5\nv 1.5E2 2 3\nv -7 +8 9\nf 1 2 3");
+        // Lines longer than a chunk, and lines across chunks.
+        let mut big = String::new();
+        for k in 0..60_000 {
+            big.push_str(&format!("v {k}.25 {} 1e{}\n", k % 7, k % 30));
+        }
+        for k in 1..59_998 {
+            big.push_str(&format!("f {} {} {}\n", k, k + 1, k + 2));
+        }
+        big.push_str(&format!("# {}\nf 1 2 3\n", "x".repeat(3 * CHUNK)));
+        same(&big);
+    }
+
+    #[test]
+    fn fast_reader_leaves_tobj_its_quirks_and_errors() {
+        left(&format!("{QUAD}v 1 1 1 2\nf 1 2 5\n")); // a weight
+        left(&format!("{QUAD}v 1 1 1 0.5 0.5 0.5\nf 1 2 5\n")); // a colour
+        left(&format!("{QUAD}f 1 2 3\ng two\nf 1 3 4\n")); // a second model
+        left(&format!("{QUAD}usemtl\tred\nf 1 2 3\n")); // no material name
+        left(&format!("{QUAD}vt 0 0\nf 1/1 2/1 3/1\nf 1 3 4\n")); // mixed forms
+        left(&format!("{QUAD}vn 0 0 1\nf 1 2 3\n")); // normals no face uses
+        left(&format!("{QUAD}vt 0 0\nf 1 2 3\n"));
+        left(&format!("{QUAD}l 1 2 3\nf 1 2 3\n")); // a polyline
+        left(&format!("{QUAD}f +1 2 3\n")); // a signed index
+        left(&format!("{QUAD}f 1 2 3\u{b}4\n")); // a vertical tab
+        left(&format!("{QUAD}f 1 2 3 # é\n"));
+        // Errors, named by tobj's reader.
+        left(&format!("{QUAD}v nan 0 0\nf 1 2 3\n"));
+        left(&format!("{QUAD}v inf 0 0\nf 1 2 3\n"));
+        left(&format!("{QUAD}f 0 1 2\n"));
+        left(&format!("{QUAD}f 1 2 5\n"));
+        left(&format!("{QUAD}f 1 2 -5\n"));
+        left(&format!("{QUAD}f 1 2\n"));
+        left(&format!("{QUAD}f 1/1 2/1 3/1\n"));
+        left(&format!("{QUAD}f 1/1/1/1 2 3\n"));
+        left(&format!("{QUAD}vn 0 0\nf 1 2 3\n"));
+        left(QUAD);
+        left("");
+        let e = parse("t.obj", format!("{QUAD}f 1 2 9\n").as_bytes()).map(|_| ());
+        assert_eq!(e, Err("t.obj:5: bad OBJ line \"f 1 2 9\"".to_string()));
     }
 }

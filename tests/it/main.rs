@@ -151,6 +151,7 @@ fn main() {
         mesh::smooth_normals_are_computed_when_missing,
         mesh::bad_obj_files_are_located_errors,
         mesh::bundled_bunny_loads,
+        mesh::obj_readers_agree_on_real_models,
         pov::refraction_matches_povray,
         pov::shapes_and_csg_match_povray,
         pov::spd_scenes_match_povray,

@@ -123,3 +123,49 @@ pub fn bundled_bunny_loads() {
     let r = raytrace().arg("-c").arg(script).output().unwrap();
     assert_eq!(text(&r.stdout), "69451\n", "{}", text(&r.stderr));
 }
+
+/// The OBJ reader's single pass (`obj::parse_fast`) reads the real meshes
+/// (the bundled bunny and, when `../shared/models` is there, those the
+/// benchmarks use) and makes of each the mesh tobj makes, bit for bit.
+pub fn obj_readers_agree_on_real_models() {
+    use rayshell::scene::MeshData;
+    use rayshell::shell::obj;
+    let bits = |m: &MeshData| {
+        let v3 = |v: &[glam::Vec3]| -> Vec<[u32; 3]> {
+            v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
+        };
+        let uv: Vec<[u32; 2]> = m.uvs.iter().map(|t| t.map(f32::to_bits)).collect();
+        (
+            v3(&m.positions),
+            v3(&m.normals),
+            uv,
+            m.tris.clone(),
+            m.normal_tris.clone(),
+            m.uv_tris.clone(),
+        )
+    };
+    let root = crate::util::root();
+    let bundled = root.join("tsd/models/stanford-bunny.obj.gz");
+    let bundled = bundled.to_str().unwrap();
+    let (ours, tobj) = (obj::load(bundled).unwrap(), obj::load_with_tobj(bundled).unwrap());
+    assert_eq!(ours.tris.len(), 69451);
+    assert!(bits(&ours) == bits(&tobj), "{bundled}");
+    let dir = root.join("../shared/models");
+    let Ok(entries) = std::fs::read_dir(&dir) else {
+        crate::util::skip(format!("{} is absent (the bundled bunny agreed)", dir.display()));
+    };
+    let mut files: Vec<_> = entries
+        .filter_map(|e| Some(e.ok()?.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "obj"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 5, "{files:?}");
+    for f in files {
+        let bytes = std::fs::read(&f).unwrap();
+        let fast =
+            obj::parse_fast(&bytes).unwrap_or_else(|| panic!("{}: left to tobj", f.display()));
+        let tobj = obj::parse_with_tobj("m.obj", &bytes).unwrap();
+        assert!(!fast.tris.is_empty());
+        assert!(bits(&fast) == bits(&tobj), "{}", f.display());
+    }
+}
