@@ -1049,6 +1049,24 @@ impl Bvh {
         Leaf { tris, spheres, rest, cones: n(2) as u32 }
     }
 
+    /// Asks for the memory of child `(child, count)` of a node (see
+    /// `Kernel::prefetch`), which a packet walk has put on its stack: an
+    /// interior node's four cache lines, a leaf's first block. The walks of
+    /// packets wait on memory in a large tree: on the 1.6M-triangle dragon
+    /// shadow packets went 3.7 -> 4.0 Mrays/s on one thread, camera packets
+    /// 5% faster. A single ray's walk, whose next node is mostly the one
+    /// it tests next, gained nothing (the SPD scenes a little slower).
+    #[inline(always)]
+    fn prefetch<K: Kernel>(&self, kernel: K, nodes: &[K::Node], (child, count): (u32, u32)) {
+        if count == 0 {
+            if let Some(n) = nodes.get(child as usize) {
+                kernel.prefetch(n, 4);
+            }
+        } else if let Some(b) = self.blocks.get(child as usize) {
+            kernel.prefetch(b, 3);
+        }
+    }
+
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn walk<const NEAR_FIRST: bool, K: Kernel>(

@@ -305,6 +305,7 @@ impl Bvh {
                     let slot = mask.trailing_zeros() as usize & (K::Node::N - 1);
                     mask &= mask - 1;
                     let (child, count) = n.child(slot);
+                    self.prefetch(kernel, nodes, (child, count));
                     let e = PacketEntry {
                         child,
                         count,

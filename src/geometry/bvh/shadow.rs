@@ -482,6 +482,7 @@ impl Bvh {
                     let s = mask.trailing_zeros() as usize & (K::Node::N - 1);
                     mask &= mask - 1;
                     let (c, k) = n.child(s);
+                    self.prefetch(kernel, nodes, (c, k));
                     stack.push(PacketEntry {
                         child: c,
                         count: k,

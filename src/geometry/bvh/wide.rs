@@ -71,6 +71,13 @@ pub(super) trait Kernel: Copy {
     fn segments_entering(self, p: &Segments, b: &Aabb, t_max: &[f32; PACKET], live: u64) -> u64 {
         p.entering(b, t_max, live)
     }
+    /// Asks for `x`'s first `lines` cache lines ahead of their use (a node
+    /// or leaf a walk has put on its stack); nothing where the kernel
+    /// cannot.
+    #[inline(always)]
+    fn prefetch<T>(self, x: &T, lines: usize) {
+        let _ = (x, lines);
+    }
 }
 
 /// A packet of rays from one origin whose directions' components have
@@ -284,7 +291,7 @@ pub(super) use avx::{Avx2, Wide8};
 #[cfg(target_arch = "x86_64")]
 mod avx {
     use pulp::x86::V3;
-    use std::arch::x86_64::{__m256, _CMP_LE_OS};
+    use std::arch::x86_64::{__m256, _CMP_LE_OS, _MM_HINT_T0};
 
     use super::{Aabb, Frustum, Kernel, PACKET, ROBUST, Ray, Rays, Segments, inv, near_planes};
 
@@ -376,6 +383,14 @@ mod avx {
             live: u64,
         ) -> u64 {
             p.entering8(self.0, b, t_max, live)
+        }
+
+        #[inline(always)]
+        fn prefetch<T>(self, x: &T, lines: usize) {
+            let p = x as *const T as *const i8;
+            for k in 0..lines {
+                self.0.sse._mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64 * k));
+            }
         }
 
         #[inline(always)]
