@@ -17,7 +17,7 @@ mod solid;
 
 pub use aabb::Aabb;
 pub use blob::{Blob, Component as BlobComponent};
-pub use bvh::{Bvh, BvhStats, Occluder, PACKET, Shadow, TIE, Width};
+pub use bvh::{Bvh, BvhStats, Occluder, PACKET, Prefetch, Shadow, TIE, Width};
 pub use csg::{
     Csg, Leaf as CsgLeaf, LeafShape as CsgShape, MAX_LEAVES as CSG_MAX_LEAVES, Node as CsgNode,
     Op as CsgOp,

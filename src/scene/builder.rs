@@ -13,7 +13,7 @@ use super::material::{Bump, Highlight, Material};
 use super::objects::{BlobFrame, CsgFrame, CsgLeafDef, Group, ObjDef, Saved};
 use super::sampling::Sampling;
 use super::texture::Texture;
-use crate::geometry::{Cone, Shape, Triangle};
+use crate::geometry::{Cone, Prefetch, Shape, Triangle};
 
 /// The largest image, in pixels (64 Mpixel: 768 MiB of f32 RGB, and 192 MiB
 /// more in bytes while the file is written).
@@ -605,6 +605,26 @@ impl Builder {
                     capped,
                     material,
                 })
+            }
+        }
+    }
+
+    /// Asks for what `shape_of(prim)` reads ahead of its reading (a hint;
+    /// see `Bvh::build_ahead`): `prim`'s record, or (`corners`, once the
+    /// record has come) a triangle's corners.
+    #[inline]
+    pub fn shape_ahead(&self, fetch: Prefetch, prim: &Prim, corners: bool) {
+        if !corners {
+            return fetch.fetch(prim);
+        }
+        let (pool, v) = match *prim {
+            Prim::Tri { v, .. } => (&self.vertices, v),
+            Prim::MeshTri { v, .. } => (&self.mesh_vertices, v),
+            _ => return,
+        };
+        for i in v {
+            if let Some(p) = pool.get(i as usize) {
+                fetch.fetch(p);
             }
         }
     }

@@ -307,7 +307,14 @@ fn freeze_level(
             Shape::Object { index: (i - n_still) as u32, bounds: bounds[i - n_still] }
         }
     };
-    let mut tree = Bvh::build_with(total, shape, objects);
+    let fetch = crate::geometry::Prefetch::new();
+    let ahead = |i: usize, corners: bool| {
+        if i < n_still {
+            let p = if motion.is_empty() { i } else { still[i] as usize };
+            b.shape_ahead(fetch, &prims[p], corners);
+        }
+    };
+    let mut tree = Bvh::build_ahead(total, shape, ahead, objects);
     if !motion.is_empty() || !ids.is_empty() {
         let numbers: Vec<u32> = (0..n_still)
             .map(|i| if motion.is_empty() { i as u32 } else { still[i] })
