@@ -48,7 +48,8 @@
 //!   completion), the scene commands (`commands`, `structure` for shapes,
 //!   transforms, CSG and groups, `surface` for textures, highlights, bumps
 //!   and displacement) and their documentation
-//!   (`docs`, also the README's table), OBJ loading (plain or gzip), NFF
+//!   (`docs`, also the README's table), OBJ loading (`obj`: plain or gzip,
+//!   in one pass of our own, tobj the reference it falls back to), NFF
 //!   scenes (`nff`), atomic
 //!   files, statistics and the last picture (`stats`), progress bars, ETA
 //!   and Ctrl-C (`feedback`), the preview window (`preview`), pictures in
