@@ -564,6 +564,112 @@ mod tests {
         same(&big);
     }
 
+    /// A xorshift generator for the random files.
+    struct Rng(u64);
+
+    impl Rng {
+        fn below(&mut self, n: usize) -> usize {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 % n as u64) as usize
+        }
+
+        /// One time in `n`.
+        fn rarely(&mut self, n: usize) -> bool {
+            self.below(n) == 0
+        }
+
+        /// A corner's index into a pool of `n` so far: in range from either
+        /// end, or (`wrong`, rarely) 0 or past the end.
+        fn index(&mut self, n: usize, wrong: bool) -> i64 {
+            if n == 0 || (wrong && self.rarely(20)) {
+                return [0, n as i64 + 1, -(n as i64) - 1][self.below(3)];
+            }
+            let k = 1 + self.below(n) as i64;
+            if self.rarely(4) { -k } else { k }
+        }
+    }
+
+    /// A random OBJ file: pools and faces of one corner form, and, when
+    /// `wrong`, now and then a line tobj rejects or reads its own way.
+    fn random_file(r: &mut Rng, wrong: bool) -> String {
+        let good = ["0", "1", "-1", "0.5", "2e1", "-0", ".25", "3.75e-2", "7"];
+        let bad = ["nan", "x", "+3", "1e40", "inf", "0x1"];
+        let number = |r: &mut Rng| {
+            if wrong && r.rarely(40) { bad[r.below(bad.len())] } else { good[r.below(good.len())] }
+        };
+        let form = r.below(4);
+        // Pools the faces can use from the start.
+        let (mut v, mut vt, mut vn) = (3, (form % 2 == 1) as usize, (form >= 2) as usize);
+        let mut text = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+        text.push_str(["", "vt 0 1\n", "vn 0 0 1\n", "vt 1 0\nvn 1 0 0\n"][form]);
+        for _ in 0..1 + r.below(30) {
+            let line = match r.below(12) {
+                0..=3 => {
+                    v += 1;
+                    let n = if wrong && r.rarely(15) { 1 + r.below(6) } else { 3 };
+                    let xs: Vec<_> = (0..n).map(|_| number(r)).collect();
+                    format!("v {}", xs.join(" "))
+                }
+                4 if form >= 2 || (wrong && r.rarely(10)) => {
+                    vn += 1;
+                    format!("vn {} {} {}", number(r), number(r), number(r))
+                }
+                5 if form % 2 == 1 || (wrong && r.rarely(10)) => {
+                    vt += 1;
+                    let w = if r.rarely(3) { " 0.5" } else { "" };
+                    format!("vt {} {}{w}", number(r), number(r))
+                }
+                6..=9 => {
+                    let corners: Vec<_> = (0..3 + r.below(3) - (wrong && r.rarely(20)) as usize)
+                        .map(|_| {
+                            let f = if wrong && r.rarely(25) { r.below(4) } else { form };
+                            let i = r.index(v, wrong);
+                            match f {
+                                0 => format!("{i}"),
+                                1 => format!("{i}/{}", r.index(vt, wrong)),
+                                2 => format!("{i}//{}", r.index(vn, wrong)),
+                                _ => format!("{i}/{}/{}", r.index(vt, wrong), r.index(vn, wrong)),
+                            }
+                        })
+                        .collect();
+                    format!("f {}", corners.join(if r.rarely(8) { "\t" } else { " " }))
+                }
+                10 => ["# c", "", "s 1", "mtllib x.mtl", "usemtl m", "  \t"][r.below(6)].into(),
+                _ if wrong => ["g a", "o b", "usemtl", "l 1 2", "v 1 2 3 4"][r.below(5)].into(),
+                _ => String::new(),
+            };
+            text.push_str(&line);
+            text.push_str(if r.rarely(10) { "\r\n" } else { "\n" });
+        }
+        text
+    }
+
+    /// Random files from OBJ's words: wherever `Fast` reads one, tobj
+    /// makes the same mesh of it; and `parse` always gives tobj's answer,
+    /// mesh or error.
+    #[test]
+    fn fast_reader_agrees_with_tobj_on_random_files() {
+        let mut r = Rng(0x9e37_79b9_7f4a_7c15);
+        let (mut read, mut left) = (0, 0);
+        for k in 0..4000 {
+            let text = random_file(&mut r, k % 2 == 1);
+            let bytes = text.as_bytes();
+            let tobj = parse_with_tobj("r.obj", bytes).map(|m| bits(&m));
+            match parse_fast(bytes) {
+                Some(m) => {
+                    read += 1;
+                    assert_eq!(Ok(bits(&m)), tobj, "{text:?}");
+                }
+                None => left += 1,
+            }
+            assert_eq!(parse("r.obj", bytes).map(|m| bits(&m)), tobj, "{text:?}");
+        }
+        // Both ways taken often enough for the comparison to mean something.
+        assert!(read > 1000 && left > 1000, "read {read}, left {left}");
+    }
+
     #[test]
     fn fast_reader_leaves_tobj_its_quirks_and_errors() {
         left(&format!("{QUAD}v 1 1 1 2\nf 1 2 5\n")); // a weight
