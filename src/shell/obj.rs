@@ -160,13 +160,6 @@ struct Fast {
     lines: usize,
 }
 
-/// What a line was to `Fast`.
-enum Line {
-    Done,
-    /// Left to tobj.
-    Tobj,
-}
-
 impl Fast {
     /// The mesh of the OBJ text `reader` gives, or `None` where the file
     /// is one for tobj (and a read error: tobj reads it again and says).
@@ -219,24 +212,21 @@ impl Fast {
             {
                 return None;
             }
-            match self.line(line) {
-                Line::Done => {}
-                Line::Tobj => return None,
-            }
+            self.line(line)?;
         }
         Some(())
     }
 
-    /// One line (without its newline).
-    fn line(&mut self, line: &[u8]) -> Line {
+    /// One line (without its newline); `None` where it is for tobj.
+    fn line(&mut self, line: &[u8]) -> Option<()> {
         // (Outside ASCII, and in it the vertical tab, tobj splits words on
         // more than `Fast` does.)
         if !line.is_ascii() || line.contains(&0x0b) {
-            return Line::Tobj;
+            return None;
         }
         let mut words = line.split(|b| b.is_ascii_whitespace()).filter(|w| !w.is_empty());
-        let Some(first) = words.next() else { return Line::Done };
-        let done = match first {
+        let Some(first) = words.next() else { return Some(()) };
+        match first {
             b"v" => {
                 let p = floats::<3>(&mut words);
                 // (A fourth value is a weight, six a colour: tobj's.)
@@ -261,8 +251,7 @@ impl Fast {
             // tobj reads a polyline's corners as a face's.
             b"l" => None,
             _ => Some(()),
-        };
-        if done.is_some() { Line::Done } else { Line::Tobj }
+        }
     }
 
     /// A face line's corners (after `f`), as fans of triangles.
