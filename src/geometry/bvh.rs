@@ -348,25 +348,17 @@ impl Bvh {
     /// unordered copy of them is kept.
     /// Triangles without area are left out (and counted in `degenerate`).
     pub fn build_from(n: usize, shape: impl Fn(usize) -> Shape + Sync) -> Bvh {
-        Bvh::build_with(n, shape, Vec::new())
+        Bvh::build_with(n, shape, |_, _| {}, Vec::new())
     }
 
     /// `build_from` where some shapes are `Shape::Object`s, entries of
-    /// `objects`. Those with no bounds (planes) are tested by every ray.
+    /// `objects` (those with no bounds, planes, are tested by every ray),
+    /// told ahead which shapes it will make next: `ahead(i, false)` when
+    /// shape `i` is wanted soon, `ahead(i, true)` a little later, so that
+    /// its maker can ask for what it reads (its record, then what the
+    /// record points to) before it is read. The packing of the leaves
+    /// makes the shapes in the tree's order, random in memory.
     pub fn build_with(
-        n: usize,
-        shape: impl Fn(usize) -> Shape + Sync,
-        objects: Vec<Object>,
-    ) -> Bvh {
-        Bvh::build_wide(n, shape, objects, Width::detect())
-    }
-
-    /// `build_with`, told ahead which shapes it will make next: `ahead(i,
-    /// false)` when shape `i` is wanted soon, `ahead(i, true)` a little
-    /// later, so that its maker can ask for what it reads (its record, then
-    /// what the record points to) before it is read. The packing of the
-    /// leaves makes the shapes in the tree's order, random in memory.
-    pub fn build_ahead(
         n: usize,
         shape: impl Fn(usize) -> Shape + Sync,
         ahead: impl Fn(usize, bool) + Sync,
@@ -375,8 +367,9 @@ impl Bvh {
         Bvh::build_in(n, (shape, ahead), objects, Width::detect())
     }
 
-    /// `build_with` into nodes of `width` (4-wide where the CPU cannot
+    /// `build_from` into nodes of `width` (4-wide where the CPU cannot
     /// test eight children at once).
+    #[cfg(test)]
     fn build_wide(
         n: usize,
         shape: impl Fn(usize) -> Shape + Sync,
@@ -386,7 +379,7 @@ impl Bvh {
         Bvh::build_in(n, (shape, |_, _| {}), objects, width)
     }
 
-    /// `build_ahead` into nodes of `width`.
+    /// `build_with` into nodes of `width`.
     fn build_in(
         n: usize,
         (shape, ahead): (impl Fn(usize) -> Shape + Sync, impl Fn(usize, bool) + Sync),
@@ -1082,12 +1075,13 @@ impl Bvh {
     /// it tests next, gained nothing (the SPD scenes a little slower).
     #[inline(always)]
     fn prefetch<K: Kernel>(&self, kernel: K, nodes: &[K::Node], (child, count): (u32, u32)) {
+        let fetch = kernel.prefetch();
         if count == 0 {
             if let Some(n) = nodes.get(child as usize) {
-                kernel.prefetch(n, 4);
+                fetch.lines(n, 4);
             }
         } else if let Some(b) = self.blocks.get(child as usize) {
-            kernel.prefetch(b, 3);
+            fetch.lines(b, 3);
         }
     }
 
@@ -1265,12 +1259,13 @@ fn widen<S: Slots>(
 }
 
 /// How many blocks ahead of its packing `widen` asks for a block's shapes
-/// (`Bvh::build_ahead`).
+/// (`Bvh::build_with`).
 const AHEAD: usize = 16;
 
 /// Asks the CPU for memory ahead of its use (SSE's prefetch, through
 /// pulp's token for the baseline x86-64 level): a hint, which changes
-/// nothing but when the memory comes; nothing elsewhere.
+/// nothing but when the memory comes; nothing elsewhere, or without a
+/// token (`NONE`).
 #[derive(Clone, Copy)]
 pub struct Prefetch {
     #[cfg(target_arch = "x86_64")]
@@ -1278,23 +1273,45 @@ pub struct Prefetch {
 }
 
 impl Prefetch {
+    /// Asks for nothing.
+    pub const NONE: Prefetch = Prefetch {
+        #[cfg(target_arch = "x86_64")]
+        v1: None,
+    };
+
+    /// This CPU's.
     pub fn new() -> Prefetch {
         #[cfg(target_arch = "x86_64")]
         return Prefetch { v1: pulp::x86::V1::try_new() };
         #[cfg(not(target_arch = "x86_64"))]
-        Prefetch {}
+        Prefetch::NONE
+    }
+
+    /// From an AVX2 token (which has the baseline's within it).
+    #[cfg(target_arch = "x86_64")]
+    pub(super) fn of(v3: pulp::x86::V3) -> Prefetch {
+        Prefetch { v1: Some(**v3) }
     }
 
     /// Asks for the cache line `x` starts in.
     #[inline(always)]
     pub fn fetch<T>(self, x: &T) {
+        self.lines(x, 1);
+    }
+
+    /// Asks for the first `n` cache lines of `x`.
+    #[inline(always)]
+    pub fn lines<T>(self, x: &T, n: usize) {
         #[cfg(target_arch = "x86_64")]
         if let Some(v1) = self.v1 {
             use std::arch::x86_64::_MM_HINT_T0;
-            v1.sse._mm_prefetch::<_MM_HINT_T0>(x as *const T as *const i8);
+            let p = x as *const T as *const i8;
+            for k in 0..n {
+                v1.sse._mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64 * k));
+            }
         }
         #[cfg(not(target_arch = "x86_64"))]
-        let _ = x;
+        let _ = (x, n);
     }
 }
 

@@ -610,7 +610,7 @@ impl Builder {
     }
 
     /// Asks for what `shape_of(prim)` reads ahead of its reading (a hint;
-    /// see `Bvh::build_ahead`): `prim`'s record, or (`corners`, once the
+    /// see `Bvh::build_with`): `prim`'s record, or (`corners`, once the
     /// record has come) a triangle's corners.
     #[inline]
     pub fn shape_ahead(&self, fetch: Prefetch, prim: &Prim, corners: bool) {

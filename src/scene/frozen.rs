@@ -314,7 +314,7 @@ fn freeze_level(
             b.shape_ahead(fetch, &prims[p], corners);
         }
     };
-    let mut tree = Bvh::build_ahead(total, shape, ahead, objects);
+    let mut tree = Bvh::build_with(total, shape, ahead, objects);
     if !motion.is_empty() || !ids.is_empty() {
         let numbers: Vec<u32> = (0..n_still)
             .map(|i| if motion.is_empty() { i as u32 } else { still[i] })

@@ -14,6 +14,7 @@ use glam::Vec4;
 use super::super::Aabb;
 use super::super::Ray;
 use super::super::aabb::ROBUST;
+use super::Prefetch;
 use super::packet::{PACKET, Rays};
 use super::shadow::Segments;
 
@@ -71,12 +72,11 @@ pub(super) trait Kernel: Copy {
     fn segments_entering(self, p: &Segments, b: &Aabb, t_max: &[f32; PACKET], live: u64) -> u64 {
         p.entering(b, t_max, live)
     }
-    /// Asks for `x`'s first `lines` cache lines ahead of their use (a node
-    /// or leaf a walk has put on its stack); nothing where the kernel
-    /// cannot.
+    /// How a walk asks for a node or leaf it has put on its stack ahead of
+    /// its test: not at all where the kernel has no token for it.
     #[inline(always)]
-    fn prefetch<T>(self, x: &T, lines: usize) {
-        let _ = (x, lines);
+    fn prefetch(self) -> Prefetch {
+        Prefetch::NONE
     }
 }
 
@@ -291,9 +291,11 @@ pub(super) use avx::{Avx2, Wide8};
 #[cfg(target_arch = "x86_64")]
 mod avx {
     use pulp::x86::V3;
-    use std::arch::x86_64::{__m256, _CMP_LE_OS, _MM_HINT_T0};
+    use std::arch::x86_64::{__m256, _CMP_LE_OS};
 
-    use super::{Aabb, Frustum, Kernel, PACKET, ROBUST, Ray, Rays, Segments, inv, near_planes};
+    use super::{
+        Aabb, Frustum, Kernel, PACKET, Prefetch, ROBUST, Ray, Rays, Segments, inv, near_planes,
+    };
 
     /// The 8-wide node.
     pub(in super::super) type Wide8 = super::Wide<8>;
@@ -386,11 +388,8 @@ mod avx {
         }
 
         #[inline(always)]
-        fn prefetch<T>(self, x: &T, lines: usize) {
-            let p = x as *const T as *const i8;
-            for k in 0..lines {
-                self.0.sse._mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64 * k));
-            }
+        fn prefetch(self) -> Prefetch {
+            Prefetch::of(self.0)
         }
 
         #[inline(always)]
