@@ -42,7 +42,8 @@ pub(super) enum Kind {
 /// One lane's primitive: its vertex normals and material, its kind, and
 /// its number in the scene (the order it was added in, whatever the
 /// tree). 20 bytes: the kind takes the top three bits of the number.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
 pub(super) struct Rec {
     pub normals: [u32; 3],
     pub material: u32,
