@@ -434,7 +434,7 @@ impl Bvh {
         let binary = if prims.is_empty() { Vec::new() } else { build_par(&mut prims, both, 0, at) };
         // Each leaf's blocks (the shapes of a mesh are of one kind; others
         // may need a few more).
-        let leaves = binary.iter().filter(|n| n.count > 0);
+        let leaves = binary.par_iter().filter(|n| n.count > 0);
         let want: usize = leaves.map(|n| n.count.div_ceil(4) as usize).sum();
         let mut blocks = Vec::with_capacity(want);
         let mut recs = Vec::new();
