@@ -126,7 +126,7 @@ impl<'a, T: Send> Finish<'a, T> {
         per: usize,
         f: &'a (dyn Fn(&mut [T], &mut [u8]) + Sync),
     ) -> Finish<'a, T> {
-        bytes.resize(pixels * per, 0);
+        crate::image::resize_bytes(bytes, pixels * per);
         Finish { bytes, per, f }
     }
 
