@@ -13,6 +13,9 @@
 //! The budget starts unlimited; the shell sets it from `--max-memory` or,
 //! by default, from the machine's memory and `RLIMIT_AS`. This module is a
 //! leaf: every layer may use it, and it uses nothing of the crate.
+//!
+//! It also makes large new buffers on all threads (`filled`): the first
+//! touch of fresh memory is much of what a one-shot render pays.
 
 use std::fmt;
 use std::sync::atomic::{AtomicUsize, Ordering};
