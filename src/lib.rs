@@ -42,8 +42,7 @@
 //! - `image`: the linear f32 image, PPM and PNG writers and readers (with a
 //!   crop's placement).
 //! - `mem`: the memory budget: a counting allocator, `reserve` before big
-//!   growth, `grew_past` after each command; big new buffers written on
-//!   all threads (`filled`). A leaf every layer may use.
+//!   growth, `grew_past` after each command. A leaf every layer may use.
 //! - `shell`: the glue and the only module that touches files, the terminal,
 //!   signals, the environment and exit codes: arguments, the REPL (with
 //!   completion), the scene commands (`commands`, `structure` for shapes,

@@ -13,9 +13,6 @@
 //! The budget starts unlimited; the shell sets it from `--max-memory` or,
 //! by default, from the machine's memory and `RLIMIT_AS`. This module is a
 //! leaf: every layer may use it, and it uses nothing of the crate.
-//!
-//! It also makes large new buffers on all threads (`filled`): the first
-//! touch of fresh memory is much of what a one-shot render pays.
 
 use std::fmt;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -146,18 +143,6 @@ impl fmt::Display for OverBudget {
 }
 
 impl std::error::Error for OverBudget {}
-
-/// `n` copies of `value`, written on all threads: a new buffer that work
-/// on all threads then fills (a picture's bands, a tree's costs). `vec!`
-/// writes them on one thread, and the first touch of fresh memory is
-/// slow: the first 1024² render spent 2.4–2.7 ms there before its bands
-/// could start; on two threads, 1.6–2.0 ms.
-pub fn filled<T: Copy + Send + Sync>(n: usize, value: T) -> Vec<T> {
-    use rayon::iter::ParallelExtend;
-    let mut v = Vec::new();
-    v.par_extend(rayon::iter::repeat_n(value, n));
-    v
-}
 
 #[cfg(test)]
 mod tests {

@@ -1354,7 +1354,7 @@ impl Plan {
 
     /// `new` for nodes `W` wide (a constant, so the loops unroll).
     fn of<const W: usize>(bin: &[Node]) -> Plan {
-        let mut cost = crate::mem::filled(bin.len(), [0.0; 8]);
+        let mut cost = vec![[0.0; 8]; bin.len()];
         // Children follow their parent, so a reverse walk meets them first.
         for i in (0..bin.len()).rev() {
             let node = &bin[i];

@@ -233,7 +233,7 @@ fn render_bands(
         None if buf.len() == n => buf,
         None => {
             drop(buf);
-            crate::mem::filled(n, Vec3::ZERO)
+            crate::image::filled(n, Vec3::ZERO)
         }
     };
     let sampling = &scene.sampling;
