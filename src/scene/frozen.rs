@@ -299,10 +299,11 @@ fn freeze_level(
     let n_still = if motion.is_empty() { n } else { still.len() };
     let total = n_still + objects.len();
     let bounds: Vec<_> = objects.iter().map(|o| o.bounds(shutter)).collect();
+    // The tree's shape `i < n_still`: the primitive it is.
+    let prim_of = |i: usize| if motion.is_empty() { i as u32 } else { still[i] };
     let shape = |i: usize| {
         if i < n_still {
-            let p = if motion.is_empty() { i } else { still[i] as usize };
-            b.shape_of(&prims[p], origin)
+            b.shape_of(&prims[prim_of(i) as usize], origin)
         } else {
             Shape::Object { index: (i - n_still) as u32, bounds: bounds[i - n_still] }
         }
@@ -310,16 +311,12 @@ fn freeze_level(
     let fetch = crate::geometry::Prefetch::new();
     let ahead = |i: usize, corners: bool| {
         if i < n_still {
-            let p = if motion.is_empty() { i } else { still[i] as usize };
-            b.shape_ahead(fetch, &prims[p], corners);
+            b.shape_ahead(fetch, &prims[prim_of(i) as usize], corners);
         }
     };
     let mut tree = Bvh::build_with(total, shape, ahead, objects);
     if !motion.is_empty() || !ids.is_empty() {
-        let numbers: Vec<u32> = (0..n_still)
-            .map(|i| if motion.is_empty() { i as u32 } else { still[i] })
-            .chain(ids)
-            .collect();
+        let numbers: Vec<u32> = (0..n_still).map(prim_of).chain(ids).collect();
         tree.renumber(&numbers);
     }
     tree
