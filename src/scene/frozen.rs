@@ -301,9 +301,10 @@ fn freeze_level(
     let bounds: Vec<_> = objects.iter().map(|o| o.bounds(shutter)).collect();
     // The tree's shape `i < n_still`: the primitive it is.
     let prim_of = |i: usize| if motion.is_empty() { i as u32 } else { still[i] };
+    let pools = b.corners(origin, n_still);
     let shape = |i: usize| {
         if i < n_still {
-            b.shape_of(&prims[prim_of(i) as usize], origin)
+            b.shape_in(&prims[prim_of(i) as usize], origin, pools.as_ref())
         } else {
             Shape::Object { index: (i - n_still) as u32, bounds: bounds[i - n_still] }
         }
@@ -311,7 +312,7 @@ fn freeze_level(
     let fetch = crate::geometry::Prefetch::new();
     let ahead = |i: usize, corners: bool| {
         if i < n_still {
-            b.shape_ahead(fetch, &prims[prim_of(i) as usize], corners);
+            b.shape_ahead(fetch, &prims[prim_of(i) as usize], corners, pools.as_ref());
         }
     };
     let mut tree = Bvh::build_with(total, shape, ahead, objects);
