@@ -15,7 +15,7 @@ use glam::Vec4;
 use super::super::aabb::ROBUST;
 #[cfg(target_arch = "x86_64")]
 use super::Avx2;
-use super::wide::{Frustum, Kernel, Slots, inv, near_planes};
+use super::wide::{Frustum, Kernel, Slots, inv4, near_planes};
 use super::{
     Aabb, Bvh, Closest, Distance, Four, Hit, Leaf, Nodes, Pre4, Ray, Slabs4, Slot, push_sorted,
 };
@@ -42,27 +42,44 @@ impl Rays {
             return None;
         }
         let bits = |r: &Ray| r.origin.to_array().map(f32::to_bits);
-        let of = |r: &Ray| [inv(r.dir.x), inv(r.dir.y), inv(r.dir.z)];
-        let near = near_planes(of(first));
+        let o = bits(first);
+        // The directions by axis in lanes (lanes past the last ray copy
+        // the first ray's), then their reciprocals four at a time: the
+        // same bits as `inv` ray by ray (a division is a division).
         let mut lanes = [[0.0f32; PACKET]; 3];
-        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
         for (i, r) in rays.iter().enumerate() {
-            let inv = of(r);
-            if bits(r) != bits(first) || !r.dir.is_finite() || near_planes(inv) != near {
+            if bits(r) != o || !r.dir.is_finite() {
                 return None;
             }
-            for axis in 0..3 {
-                lanes[axis][i] = inv[axis];
-                lo[axis] = lo[axis].min(inv[axis]);
-                hi[axis] = hi[axis].max(inv[axis]);
-            }
+            lanes[0][i] = r.dir.x;
+            lanes[1][i] = r.dir.y;
+            lanes[2][i] = r.dir.z;
         }
         let groups = rays.len().div_ceil(4);
-        for lane in &mut lanes {
-            let first = lane[0];
-            lane[rays.len()..groups * 4].fill(first);
+        for (lane, d) in lanes.iter_mut().zip(first.dir.to_array()) {
+            lane[rays.len()..groups * 4].fill(d);
         }
-        let inv = lanes.map(|l| std::array::from_fn(|g| Vec4::from_slice(&l[4 * g..])));
+        let mut inv = [[Vec4::ZERO; GROUPS]; 3];
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        let mut signs = [0u64; 3];
+        for axis in 0..3 {
+            let (mut l, mut h) = (Vec4::INFINITY, Vec4::NEG_INFINITY);
+            for g in 0..groups {
+                let v = inv4(Vec4::from_slice(&lanes[axis][4 * g..]));
+                inv[axis][g] = v;
+                (l, h) = (l.min(v), h.max(v));
+                signs[axis] |= (v.cmplt(Vec4::ZERO).bitmask() as u64) << (4 * g);
+            }
+            (lo[axis], hi[axis]) = (l.min_element(), h.max_element());
+        }
+        // One sign per axis: every lane's as the first ray's.
+        let near = near_planes([inv[0][0].x, inv[1][0].x, inv[2][0].x]);
+        for (axis, &m) in signs.iter().enumerate() {
+            let want = if near[axis] == 1 { u64::MAX >> (PACKET - 4 * groups) } else { 0 };
+            if m != want {
+                return None;
+            }
+        }
         let frustum = Frustum { org: first.origin.to_array(), lo, hi, near };
         Some(Rays { frustum, inv, groups })
     }

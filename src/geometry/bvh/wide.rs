@@ -104,6 +104,13 @@ pub(super) fn inv(d: f32) -> f32 {
     if d.abs() < 1e-30 { 1e30f32.copysign(d) } else { d.recip() }
 }
 
+/// `inv` of four directions' coordinates at once, lane for lane the same
+/// bits (a division is correctly rounded either way).
+#[inline(always)]
+pub(super) fn inv4(d: Vec4) -> Vec4 {
+    Vec4::select(d.abs().cmplt(Vec4::splat(1e-30)), Vec4::splat(1e30).copysign(d), d.recip())
+}
+
 /// For each axis, which of the two planes (0: lo, 1: hi) the ray meets
 /// first, so the test needs no per-lane min/max.
 pub(super) fn near_planes(i: [f32; 3]) -> [usize; 3] {
