@@ -135,6 +135,57 @@ fn parallel_build_finds_the_same_hits() {
     }
 }
 
+/// The parallel build lays its parts out as the one-thread recursion
+/// would, node for node and primitive for primitive.
+#[test]
+fn parallel_build_lays_out_the_sequential_tree() {
+    let mut seed = 9;
+    let shapes = random_scene(5 * PARALLEL_BUILD, &mut seed);
+    let prims: Vec<BuildPrim> = (0..shapes.len())
+        .map(|i| BuildPrim::new(shapes[i].bounds(), i as u32, block_kind(&shapes[i])))
+        .collect();
+    let both = bounds_of(&prims);
+    let at = Level { level: 1, mixed: true };
+    let (mut a, mut b) = (prims.clone(), prims);
+    let parallel = build_par(&mut a, both, 0, at).into_nodes();
+    let mut one = Vec::new();
+    build_rec(&mut b, both, 0, &mut one, at);
+    assert!(one.len() > 1000);
+    let bytes = |n: &[Node]| bytemuck::cast_slice::<Node, u8>(n).to_vec();
+    assert!(bytes(&parallel) == bytes(&one));
+    assert!(a.iter().map(|p| p.index()).eq(b.iter().map(|p| p.index())));
+}
+
+/// `inv4` is `inv` lane for lane, to the bit: zeros of either sign,
+/// values either side of the cut-off, subnormals, large values.
+#[test]
+fn four_reciprocals_are_the_single_ones() {
+    let xs = [
+        0.0,
+        -0.0,
+        1e-30,
+        -1e-30,
+        1.0001e-30,
+        9.999e-31,
+        1e-40,
+        -1e-40,
+        3.0,
+        -7.5,
+        1e30,
+        -3e38,
+        0.1,
+        f32::MIN_POSITIVE,
+    ];
+    for q in xs.chunks(4) {
+        let mut four = [1.0; 4];
+        four[..q.len()].copy_from_slice(q);
+        let got = wide::inv4(Vec4::from_array(four)).to_array();
+        for (x, g) in four.iter().zip(got) {
+            assert_eq!(g.to_bits(), wide::inv(*x).to_bits(), "{x:e}");
+        }
+    }
+}
+
 #[test]
 fn blocks_are_watertight_and_match_the_scalar_test() {
     // A 6x6 grid of quads in the plane z = 0, two triangles each, with
@@ -752,7 +803,7 @@ fn wide_nodes_have_the_least_area() {
         .map(|(i, s)| BuildPrim::new(s.bounds(), i as u32, block_kind(s)))
         .collect();
     let both = bounds_of(&prims);
-    let bin = build_par(&mut prims, both, 0, Level { level: 1, mixed: true });
+    let bin = build_par(&mut prims, both, 0, Level { level: 1, mixed: true }).into_nodes();
     assert_eq!(bin[0].count, 0);
     let near = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.max(b);
     for width in [4, 8] {
