@@ -973,3 +973,46 @@ impl Builder {
         self.sampling.noise_target = s.noise_target;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A level's corners converted once make `shape_of`'s triangles to the
+    /// bit, of the script's pool and a mesh's alike, far from the origin
+    /// too; a level of few shapes beside the pools reads them as before.
+    #[test]
+    fn converted_corners_make_the_same_shapes() {
+        let mut b = Builder::new();
+        let at = [(1.0e6 + 0.1, 2.3, -4.7), (0.3, 1e-3, 5.5), (-7.25, 3.3, 0.1), (2.0, -2.0, 9.9)];
+        for (x, y, z) in at {
+            b.vertex(DVec3::new(x, y, z)).unwrap();
+        }
+        b.tri([0, 1, 2]).unwrap();
+        b.tri([1, 2, 3]).unwrap();
+        let mesh = MeshData {
+            positions: vec![
+                Vec3::new(0.1, 0.2, 0.3),
+                Vec3::new(3.7, -1.1, 2.2),
+                Vec3::new(-5.0, 4.4, 1.3),
+            ],
+            normals: Vec::new(),
+            tris: vec![[0, 1, 2], [2, 1, 0]],
+            normal_tris: None,
+            uvs: Vec::new(),
+            uv_tris: None,
+        };
+        b.add_mesh(&mesh, 1.7, DVec3::new(123.456, -7.0, 0.25), false).unwrap();
+        let origin = DVec3::new(0.7, -1.3, 2.9);
+        let corners = b.corners(origin, b.prims.len()).expect("four shapes, seven vertices");
+        let bits = |s: Shape| match s {
+            Shape::Triangle(t) => t.p.map(|p| p.to_array().map(f32::to_bits)),
+            _ => panic!("a triangle"),
+        };
+        assert_eq!(b.prims.len(), 4);
+        for p in &b.prims {
+            assert_eq!(bits(b.shape_in(p, origin, Some(&corners))), bits(b.shape_of(p, origin)));
+        }
+        assert!(b.corners(origin, 2).is_none());
+    }
+}
