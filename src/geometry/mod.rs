@@ -24,7 +24,7 @@ pub use csg::{
 };
 pub use fractal::{Flake, MAX_DEPTH as FRACTAL_MAX_DEPTH, Menger};
 pub use object::{Kind, Local, Located, Object, Place, ShadowHit};
-pub use ray::Ray;
+pub use ray::{Ray, finite};
 pub use shapes::{
     Cone, Hit, RayPre, Shape, Triangle, intersect_brute, intersect_cone, intersect_sphere,
     intersect_triangle, intersect_triangle_f64,

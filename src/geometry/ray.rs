@@ -32,3 +32,12 @@ impl Ray {
         self.origin + self.dir * t
     }
 }
+
+/// `Vec3::is_finite` without a branch per coordinate (no exponent all
+/// ones): asked of every camera ray.
+#[inline]
+pub fn finite(v: Vec3) -> bool {
+    const EXP: u32 = 0x7f80_0000;
+    let e = |x: f32| x.to_bits() & EXP != EXP;
+    e(v.x) & e(v.y) & e(v.z)
+}

@@ -25,7 +25,8 @@ use glam::Vec3;
 use super::job::{BLOCK, Finish, Job, Out, per_block, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
 use crate::geometry::{
-    Hit, Local, Located, Occluder, PACKET, Ray, Shadow, ShadowHit, Triangle, intersect_brute,
+    Hit, Local, Located, Occluder, PACKET, Ray, Shadow, ShadowHit, Triangle, finite,
+    intersect_brute,
 };
 use crate::image::{Encoding, Image};
 use crate::scene::{Highlight, Integrator, Material, Scene, texture};
@@ -271,6 +272,11 @@ fn render_bands(
     } else {
         let frame = sample::frame_key(sampling);
         let whitted = sampling.integrator == Integrator::Whitted;
+        // Whether a miss sees the background alone (`seen`): no light with
+        // a size to see, no environment. (A block whose rays all miss is
+        // then coloured without the tracer's set-up per ray: a render whose
+        // rays all miss 9 -> 8.4 ms at 1024².)
+        let plain = scene.emitters.is_empty() && !scene.has_environment;
         per_block(cam.width, cam.height, job, out, |px, st, values| {
             // The pixel centres, as COS 426 traces them.
             let ray = |&(x, y): &(u32, u32)| cam.ray(x, y).at_time(sampling.shutter[0]);
@@ -290,6 +296,18 @@ fn render_bands(
             let n = px.len().min(PACKET);
             cam.rays_into(&px[..n], sampling.shutter[0], &mut rays[..n]);
             scene.intersect_packet(&rays[..n], &mut hits[..n]);
+            if plain && hits[..n].iter().all(|h| h.0.is_none()) {
+                // Every ray missed: each sees the background (`seen`), and
+                // is counted as `trace_from` counts it. None needs starting:
+                // a miss draws no random numbers and traces no ray.
+                st.primary += n as u64;
+                for (r, &(_, steps)) in rays[..n].iter().zip(&hits[..n]) {
+                    let ok = sound(r);
+                    st.bvh_steps += if ok { steps as u64 } else { 0 };
+                    values.push(if ok { scene.background } else { Vec3::ZERO });
+                }
+                return;
+            }
             let begin = |i: usize, st: &mut RayStats| start(st, px[i]);
             shade_packet(scene, (&rays[..n], &hits[..n]), st, begin, |_, c| values.push(c));
         })?
@@ -664,10 +682,14 @@ pub fn trace(
 /// degenerate surface, an extreme index of refraction) sees nothing;
 /// neither does one past the pixel's budget.
 fn traceable(ray: &Ray, st: &RayStats) -> bool {
-    ray.origin.is_finite()
-        && ray.dir.is_finite()
-        && ray.dir != Vec3::ZERO
-        && (st.limit == 0 || st.total() < st.limit)
+    sound(ray) && (st.limit == 0 || st.total() < st.limit)
+}
+
+/// Whether `ray` has a finite origin and a finite, non-zero direction (the
+/// six coordinates tested without a branch each).
+#[inline(always)]
+fn sound(ray: &Ray) -> bool {
+    finite(ray.origin) & finite(ray.dir) & (ray.dir != Vec3::ZERO)
 }
 
 /// `trace` of a camera ray whose closest hit (and steps) was found
