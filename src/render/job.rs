@@ -211,8 +211,15 @@ pub(crate) fn per_block<T: Send + Copy>(
                     let whole = blocks(job, tile, (s, passes[0]), &mut pixels, |block| {
                         values.clear();
                         f(block, &mut st, &mut values);
-                        for (&(x, y), &v) in block.iter().zip(&values) {
-                            px[(y - y0) as usize * w + (x - r.x0) as usize] = v;
+                        // Run by run along the rows (a block's row, or in a
+                        // later pass single pixels).
+                        let mut done = 0;
+                        for run in block.chunk_by(|a, b| a.1 == b.1 && b.0 == a.0 + 1) {
+                            let (x, y) = run[0];
+                            let at = (y - y0) as usize * w + (x - r.x0) as usize;
+                            let end = (done + run.len()).min(values.len());
+                            px[at..at + (end - done)].copy_from_slice(&values[done..end]);
+                            done = end;
                         }
                         n += block.len() as u64;
                     });
@@ -295,9 +302,13 @@ fn blocks(
             }
             pixels.clear();
             for y in by..(by + BLOCK).min(y1) {
-                pixels.extend(
-                    (bx..(bx + BLOCK).min(x1)).filter(|&x| in_pass(x, y, s, first)).map(|x| (x, y)),
-                );
+                let xs = bx..(bx + BLOCK).min(x1);
+                if s == 1 && first == 1 {
+                    // One pass: every pixel.
+                    pixels.extend(xs.map(|x| (x, y)));
+                    continue;
+                }
+                pixels.extend(xs.filter(|&x| in_pass(x, y, s, first)).map(|x| (x, y)));
             }
             if !pixels.is_empty() {
                 each(pixels);
