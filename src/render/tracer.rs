@@ -277,6 +277,10 @@ fn render_bands(
         // then coloured without the tracer's set-up per ray: a render whose
         // rays all miss 9 -> 8.4 ms at 1024².)
         let plain = scene.emitters.is_empty() && !scene.has_environment;
+        // The box around everything a camera ray can hit, when a miss sees
+        // the background alone and there is a box (no plane).
+        let bounds = scene.bvh.bounds();
+        let cull = (plain && !bounds.is_empty()).then(|| (bounds.min.into(), bounds.max.into()));
         per_block(cam.width, cam.height, job, out, |px, st, values| {
             // The pixel centres, as COS 426 traces them.
             let ray = |&(x, y): &(u32, u32)| cam.ray(x, y).at_time(sampling.shutter[0]);
@@ -290,10 +294,25 @@ fn render_bands(
                 }
                 return;
             }
+            let n = px.len().min(PACKET);
+            if let Some(b) = cull {
+                // A block whose rays all pass beside the scene's box sees
+                // the background alone: no ray is made (its rays are
+                // sound, and count no steps).
+                let (x0, y0, x1, y1) =
+                    px[..n].iter().fold((u32::MAX, u32::MAX, 0, 0), |(a, b, c, d), &(x, y)| {
+                        (a.min(x), b.min(y), c.max(x), d.max(y))
+                    });
+                let rect = (x0 as f32, y0 as f32, (x1 + 1) as f32, (y1 + 1) as f32);
+                if n > 0 && cam.misses_box(rect, b) {
+                    st.primary += n as u64;
+                    values.extend(std::iter::repeat_n(scene.background, n));
+                    return;
+                }
+            }
             // The block's camera rays found together, then each shaded.
             let mut rays = [Ray::new(Vec3::ZERO, Vec3::ZERO); PACKET];
             let mut hits = [(None, 0); PACKET];
-            let n = px.len().min(PACKET);
             cam.rays_into(&px[..n], sampling.shutter[0], &mut rays[..n]);
             scene.intersect_packet(&rays[..n], &mut hits[..n]);
             if plain && hits[..n].iter().all(|h| h.0.is_none()) {
