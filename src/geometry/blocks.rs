@@ -196,8 +196,19 @@ impl Block {
     /// The watertight test on all four triangles: the lanes hit within
     /// `(t_min, t_max)` as a bit mask, and per lane `t` and the edge
     /// functions (u, v, w) whose sum is the determinant.
+    ///
+    /// With `EARLY`, a block whose four lines all pass beside their
+    /// triangles returns before the division (its `t` then all zero):
+    /// closest-hit rays, where it saves waiting for the division (the
+    /// 100k dragon's camera rays 2-3 % faster). Shadow rays test without
+    /// the branch: it made them 5 % slower.
     #[inline(always)]
-    pub fn triangles(&self, r: &Pre4, t_min: f32, t_max: f32) -> (u32, Vec4, [Vec4; 3]) {
+    pub fn triangles<const EARLY: bool>(
+        &self,
+        r: &Pre4,
+        t_min: f32,
+        t_max: f32,
+    ) -> (u32, Vec4, [Vec4; 3]) {
         let [kx, ky, kz] = r.k;
         let v = &self.v;
         let rel = |k: usize| (v[k + kx] - r.o[0], v[k + ky] - r.o[1], v[k + kz] - r.o[2]);
@@ -225,6 +236,9 @@ impl Block {
         let neg = u.cmplt(zero) | vv.cmplt(zero) | w.cmplt(zero);
         let pos = u.cmpgt(zero) | vv.cmpgt(zero) | w.cmpgt(zero);
         let det = u + vv + w;
+        if EARLY && !(!(neg & pos) & det.cmpne(zero)).any() {
+            return (0, Vec4::ZERO, [u, vv, w]);
+        }
         let (az, bz, cz) = (r.s[2] * a.2, r.s[2] * b.2, r.s[2] * c.2);
         let t = (u * az + vv * bz + w * cz) / det;
         let ok = !(neg & pos)
@@ -234,18 +248,18 @@ impl Block {
         (ok.bitmask(), t, [u, vv, w])
     }
 
-    /// Calls `each(lane, t, uv)` for each lane `triangles` finds hit, in
-    /// lane order (`uv`: the weights of vertices 1 and 2); stops, and
-    /// returns true, as soon as `each` returns true.
+    /// Calls `each(lane, t, uv)` for each lane `triangles::<EARLY>` finds
+    /// hit, in lane order (`uv`: the weights of vertices 1 and 2); stops,
+    /// and returns true, as soon as `each` returns true.
     #[inline(always)]
-    pub fn each_triangle_hit(
+    pub fn each_triangle_hit<const EARLY: bool>(
         &self,
         r: &Pre4,
         t_min: f32,
         t_max: f32,
         mut each: impl FnMut(usize, f32, [f32; 2]) -> bool,
     ) -> bool {
-        let (mut mask, t, [u, v, w]) = self.triangles(r, t_min, t_max);
+        let (mut mask, t, [u, v, w]) = self.triangles::<EARLY>(r, t_min, t_max);
         while mask != 0 {
             let l = mask.trailing_zeros() as usize;
             mask &= mask - 1;

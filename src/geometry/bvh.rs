@@ -707,7 +707,7 @@ impl Bvh {
     ) {
         for b in leaf.tris {
             let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
-            b.each_triangle_hit(pre, t_min, *t_max, |l, t, uv| {
+            b.each_triangle_hit::<true>(pre, t_min, *t_max, |l, t, uv| {
                 c.consider(&self.recs, Hit { t, prim: self.prim(b, l), uv, sub: 0 }, t_max);
                 false
             });
@@ -776,7 +776,7 @@ impl Bvh {
         self.traverse::<false>(&start, 0.0, &mut t_end, |slot, t_max| {
             let leaf = self.leaf_blocks(slot);
             for b in leaf.tris {
-                let (mut mask, t, _) = b.triangles(&pre, 0.0, *t_max);
+                let (mut mask, t, _) = b.triangles::<false>(&pre, 0.0, *t_max);
                 while mask != 0 {
                     let l = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
@@ -952,7 +952,7 @@ impl Bvh {
         match kind {
             BlockKind::Triangles => {
                 let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
-                b.each_triangle_hit(pre, t_min, t_max, |l, t, uv| {
+                b.each_triangle_hit::<false>(pre, t_min, t_max, |l, t, uv| {
                     let rec = &self.recs[self.prim(b, l) as usize];
                     each(ShadowHit { corners: rec.normals, uv, ..ShadowHit::new(rec.material, t) })
                 })
