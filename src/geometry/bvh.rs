@@ -339,6 +339,36 @@ impl Occluder {
 }
 
 impl Bvh {
+    /// The boxes of the root's children that hold something, each with
+    /// its own children's boxes when it is a node (none when a leaf):
+    /// together they hold everything in the tree. Nothing when the tree
+    /// is empty or holds something without bounds (a plane).
+    pub fn top_boxes(&self) -> Vec<(Aabb, Vec<Aabb>)> {
+        fn boxes<S: Slots>(n: &S) -> impl Iterator<Item = (usize, Aabb)> + '_ {
+            (0..S::N).map(|i| (i, n.bounds(i))).filter(|(_, b)| !b.is_empty())
+        }
+        fn of<S: Slots>(n: &[S]) -> Vec<(Aabb, Vec<Aabb>)> {
+            let Some(root) = n.first() else { return Vec::new() };
+            boxes(root)
+                .map(|(i, b)| {
+                    let inner = match root.child(i) {
+                        (c, 0) => boxes(&n[c as usize]).map(|(_, b)| b).collect(),
+                        _ => Vec::new(),
+                    };
+                    (b, inner)
+                })
+                .collect()
+        }
+        if !self.unbounded.is_empty() {
+            return Vec::new();
+        }
+        match &self.nodes {
+            Nodes::Four(n) => of(n),
+            #[cfg(target_arch = "x86_64")]
+            Nodes::Eight(n, _) => of(n),
+        }
+    }
+
     /// Builds over `shapes`.
     pub fn build(shapes: &[Shape]) -> Bvh {
         Bvh::build_from(shapes.len(), |i| shapes[i])

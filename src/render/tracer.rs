@@ -25,7 +25,7 @@ use glam::Vec3;
 use super::job::{BLOCK, Finish, Job, Out, per_block, per_pixel, per_pixel_passes};
 use super::sample::{self, FilterTable};
 use crate::geometry::{
-    Hit, Local, Located, Occluder, PACKET, Ray, Shadow, ShadowHit, Triangle, finite,
+    Aabb, Hit, Local, Located, Occluder, PACKET, Ray, Shadow, ShadowHit, Triangle, finite,
     intersect_brute,
 };
 use crate::image::{Encoding, Image};
@@ -277,10 +277,12 @@ fn render_bands(
         // then coloured without the tracer's set-up per ray: a render whose
         // rays all miss 9 -> 8.4 ms at 1024².)
         let plain = scene.emitters.is_empty() && !scene.has_environment;
-        // The box around everything a camera ray can hit, when a miss sees
-        // the background alone and there is a box (no plane).
+        // The box around everything a camera ray can hit, and the boxes
+        // of the tree's top two levels, when a miss sees the background
+        // alone and there is a box (no plane).
         let bounds = scene.bvh.bounds();
-        let cull = (plain && !bounds.is_empty()).then(|| (bounds.min.into(), bounds.max.into()));
+        let cull = plain && !bounds.is_empty();
+        let top = if cull { scene.bvh.top_boxes() } else { Vec::new() };
         per_block(cam.width, cam.height, job, out, |px, st, values| {
             // The pixel centres, as COS 426 traces them.
             let ray = |&(x, y): &(u32, u32)| cam.ray(x, y).at_time(sampling.shutter[0]);
@@ -295,16 +297,24 @@ fn render_bands(
                 return;
             }
             let n = px.len().min(PACKET);
-            if let Some(b) = cull {
-                // A block whose rays all pass beside the scene's box sees
-                // the background alone: no ray is made (its rays are
+            if cull && n > 0 {
+                // A block whose rays all pass beside the scene's box, or
+                // beside each box of the root's children (or of theirs),
+                // sees the background alone: no ray is made (its rays are
                 // sound, and count no steps).
                 let (x0, y0, x1, y1) =
                     px[..n].iter().fold((u32::MAX, u32::MAX, 0, 0), |(a, b, c, d), &(x, y)| {
                         (a.min(x), b.min(y), c.max(x), d.max(y))
                     });
                 let rect = (x0 as f32, y0 as f32, (x1 + 1) as f32, (y1 + 1) as f32);
-                if n > 0 && cam.misses_box(rect, b) {
+                let beside = cam.pyramid(rect).is_some_and(|p| {
+                    let out = |b: &Aabb| p.misses(b.min, b.max);
+                    out(&bounds)
+                        || top.iter().all(|(b, inner)| {
+                            out(b) || (!inner.is_empty() && inner.iter().all(out))
+                        })
+                });
+                if beside {
                     st.primary += n as u64;
                     values.extend(std::iter::repeat_n(scene.background, n));
                     return;

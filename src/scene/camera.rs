@@ -140,32 +140,29 @@ impl Camera {
     /// Given the pixels' whole squares, it holds for the rays through
     /// their centres half a pixel inside. A pinhole's test: false with a
     /// lens, whose rays leave from elsewhere than the eye.
-    pub fn misses_box(
-        &self,
-        (x0, y0, x1, y1): (f32, f32, f32, f32),
-        (lo, hi): (Vec3, Vec3),
-    ) -> bool {
+    pub fn misses_box(&self, rect: (f32, f32, f32, f32), (lo, hi): (Vec3, Vec3)) -> bool {
+        self.pyramid(rect).is_some_and(|p| p.misses(lo.into(), hi.into()))
+    }
+
+    /// The pyramid of the rays through the image rectangle `x0..x1` by
+    /// `y0..y1` (`misses_box`'s test, for many boxes); `None` with a lens.
+    pub fn pyramid(&self, (x0, y0, x1, y1): (f32, f32, f32, f32)) -> Option<Pyramid> {
         if self.lens.is_some() {
-            return false;
+            return None;
         }
         // (In `Vec3A`, whose fourth lane is a copy of z: packed `Vec3`
         // arithmetic left garbage there, whose denormals took a microcode
         // assist each, a third of this test's time.)
         let (corner, dx, dy) =
             (Vec3A::from(self.corner), Vec3A::from(self.dx), Vec3A::from(self.dy));
-        let (lo, hi, from) = (Vec3A::from(lo), Vec3A::from(hi), Vec3A::from(self.from));
         let dir = |x: f32, y: f32| corner + dx * x + dy * y;
         let edges = [dir(x0, y0), dir(x1, y0), dir(x1, y1), dir(x0, y1)];
         let centre = dir(0.5 * (x0 + x1), 0.5 * (y0 + y1));
-        (0..4).any(|k| {
+        let planes = std::array::from_fn(|k| {
             let n = edges[k].cross(edges[(k + 1) % 4]);
-            let n = if n.dot(centre) < 0.0 { -n } else { n };
-            // The box's corner farthest along n, from the eye.
-            let far = Vec3A::select(n.cmpgt(Vec3A::ZERO), hi, lo) - from;
-            // (Squared: d < -10⁻⁵·|n|·|far|, without the roots.)
-            let d = n.dot(far);
-            d < 0.0 && d * d > 1e-10 * n.length_squared() * far.length_squared()
-        })
+            if n.dot(centre) < 0.0 { -n } else { n }
+        });
+        Some(Pyramid { planes, from: self.from.into() })
     }
 
     /// The primary ray through the image point (px, py), in pixels from
@@ -173,6 +170,29 @@ impl Camera {
     pub fn ray_at(&self, px: f32, py: f32) -> Ray {
         let dir = self.corner + self.dx * px + self.dy * py;
         Ray::new(self.from, dir.normalize())
+    }
+}
+
+/// The rays of a pinhole camera through a rectangle of the image: the
+/// four planes through the eye and the rectangle's edges, their normals
+/// turned inward (`Camera::pyramid`).
+pub struct Pyramid {
+    planes: [Vec3A; 4],
+    from: Vec3A,
+}
+
+impl Pyramid {
+    /// Whether the box `lo..hi` lies wholly outside one of the planes,
+    /// with a margin of 10⁻⁵ radians (see `Camera::misses_box`).
+    #[inline]
+    pub fn misses(&self, lo: Vec3A, hi: Vec3A) -> bool {
+        self.planes.iter().any(|&n| {
+            // The box's corner farthest along n, from the eye.
+            let far = Vec3A::select(n.cmpgt(Vec3A::ZERO), hi, lo) - self.from;
+            // (Squared: d < -10⁻⁵·|n|·|far|, without the roots.)
+            let d = n.dot(far);
+            d < 0.0 && d * d > 1e-10 * n.length_squared() * far.length_squared()
+        })
     }
 }
 

@@ -156,6 +156,27 @@ fn parallel_build_lays_out_the_sequential_tree() {
     assert!(a.iter().map(|p| p.index()).eq(b.iter().map(|p| p.index())));
 }
 
+/// The root's children's boxes, and theirs, hold every primitive (what
+/// passing over a block of camera rays relies on).
+#[test]
+fn top_boxes_hold_every_primitive() {
+    let mut seed = 13;
+    let shapes = random_scene(3000, &mut seed);
+    for width in [Width::Four, Width::Eight] {
+        let bvh = Bvh::build_wide(shapes.len(), |i| shapes[i], Vec::new(), width);
+        let top = bvh.top_boxes();
+        assert!(top.len() >= 2 && top.iter().any(|(_, inner)| inner.len() >= 2));
+        let holds = |o: &Aabb, b: &Aabb| o.min.cmple(b.min).all() && b.max.cmple(o.max).all();
+        for s in &shapes {
+            let b = s.bounds();
+            let held = top.iter().any(|(o, inner)| {
+                holds(o, &b) && (inner.is_empty() || inner.iter().any(|i| holds(i, &b)))
+            });
+            assert!(held, "{width:?}: {s:?}");
+        }
+    }
+}
+
 /// `inv4` is `inv` lane for lane, to the bit: zeros of either sign,
 /// values either side of the cut-off, subnormals, large values.
 #[test]
