@@ -132,20 +132,11 @@ impl Camera {
         }
     }
 
-    /// Whether no camera ray through the image rectangle `x0..x1` by
-    /// `y0..y1` (in pixels from the top-left corner) can meet the box
-    /// `lo..hi`: the box lies wholly outside one of the four planes
-    /// through the eye and the rectangle's edges, with a margin of 10⁻⁵
-    /// radians, a hundred times the rounding of a ray's own direction.
-    /// Given the pixels' whole squares, it holds for the rays through
-    /// their centres half a pixel inside. A pinhole's test: false with a
-    /// lens, whose rays leave from elsewhere than the eye.
-    pub fn misses_box(&self, rect: (f32, f32, f32, f32), (lo, hi): (Vec3, Vec3)) -> bool {
-        self.pyramid(rect).is_some_and(|p| p.misses(lo.into(), hi.into()))
-    }
-
-    /// The pyramid of the rays through the image rectangle `x0..x1` by
-    /// `y0..y1` (`misses_box`'s test, for many boxes); `None` with a lens.
+    /// The pyramid of the camera rays through the image rectangle
+    /// `x0..x1` by `y0..y1` (in pixels from the top-left corner): a box it
+    /// `misses` no such ray can meet. Given the pixels' whole squares, it
+    /// holds for the rays through their centres, half a pixel inside.
+    /// `None` with a lens, whose rays leave from elsewhere than the eye.
     pub fn pyramid(&self, (x0, y0, x1, y1): (f32, f32, f32, f32)) -> Option<Pyramid> {
         if self.lens.is_some() {
             return None;
@@ -183,7 +174,8 @@ pub struct Pyramid {
 
 impl Pyramid {
     /// Whether the box `lo..hi` lies wholly outside one of the planes,
-    /// with a margin of 10⁻⁵ radians (see `Camera::misses_box`).
+    /// with a margin of 10⁻⁵ radians, a hundred times the rounding of a
+    /// ray's own direction.
     #[inline]
     pub fn misses(&self, lo: Vec3A, hi: Vec3A) -> bool {
         self.planes.iter().any(|&n| {
@@ -233,7 +225,7 @@ mod tests {
         assert!((angle + 45.0).abs() < 0.1, "{angle}");
     }
 
-    /// A block `misses_box` passes over has no pixel whose ray enters the
+    /// A block whose pyramid misses a box has no pixel whose ray enters the
     /// box (an exact slab test in double precision); boxes in front, to
     /// the side, behind and around the eye, blocks of one pixel to 8×8;
     /// and it does pass over most blocks that miss.
@@ -269,7 +261,7 @@ mod tests {
                         (by..by + size).flat_map(|y| (bx..bx + size).map(move |x| (x, y)));
                     let hit = pixels.any(|(x, y)| enters(&cam.ray(x, y), lo, hi));
                     let rect = (bx as f32, by as f32, (bx + size) as f32, (by + size) as f32);
-                    let over = cam.misses_box(rect, (lo, hi));
+                    let over = cam.pyramid(rect).is_some_and(|p| p.misses(lo.into(), hi.into()));
                     assert!(!(over && hit), "camera {k}, block at ({bx}, {by})");
                     missing += !hit as u32;
                     passed += over as u32;
