@@ -1065,7 +1065,7 @@ impl Bvh {
         ray: &Ray,
         t_min: f32,
         t_max: &mut f32,
-        leaf: impl FnMut(Slot, &mut f32) -> bool,
+        mut leaf: impl FnMut(Slot, &mut f32) -> bool,
     ) -> u32 {
         // A non-finite ray is never walked: its slab tests would be NaN.
         if self.nodes.len() == 0 || !(ray.origin.is_finite() && ray.dir.is_finite()) {
@@ -1083,7 +1083,7 @@ impl Bvh {
             Nodes::Eight(n, avx) => {
                 // One reference into the AVX2 function (its arguments pass
                 // in registers, not copied through memory).
-                let mut args = (self, n, &mut stack, ray, t_min, t_max, leaf);
+                let mut args = (self, n, &mut stack, ray, t_min, t_max, &mut leaf);
                 let args = &mut args;
                 avx.run(move || {
                     let (me, n, stack, ray, t_min, t_max, leaf) = args;
