@@ -412,9 +412,9 @@ impl Block {
 /// Per-ray constants of the four-wide triangle test: the watertight
 /// test's axis permutation and shear, and the permuted origin, splatted.
 pub(super) struct Pre4 {
-    k: [usize; 3],
-    o: [Vec4; 3],
-    s: [Vec4; 3],
+    pub(super) k: [usize; 3],
+    pub(super) o: [Vec4; 3],
+    pub(super) s: [Vec4; 3],
 }
 
 impl Pre4 {

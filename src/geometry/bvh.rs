@@ -735,12 +735,16 @@ impl Bvh {
         t_max: &mut f32,
         c: &mut Closest,
     ) {
-        for b in leaf.tris {
+        if !leaf.tris.is_empty() {
             let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
-            b.each_triangle_hit::<true>(pre, t_min, *t_max, |l, t, uv| {
-                c.consider(&self.recs, Hit { t, prim: self.prim(b, l), uv, sub: 0 }, t_max);
-                false
-            });
+            if !self.pair_closest(leaf.tris, pre, t_min, t_max, c) {
+                for b in leaf.tris {
+                    b.each_triangle_hit::<true>(pre, t_min, *t_max, |l, t, uv| {
+                        c.consider(&self.recs, Hit { t, prim: self.prim(b, l), uv, sub: 0 }, t_max);
+                        false
+                    });
+                }
+            }
         }
         for b in leaf.spheres {
             let (mut mask, t) = b.spheres(ray, t_min, *t_max);
@@ -754,6 +758,89 @@ impl Bvh {
         if leaf.has_rest() {
             self.rest_closest(ray, slabs, leaf, t_min, t_max, c);
         }
+    }
+
+    /// A leaf's two triangle blocks tested at once, 8 lanes wide
+    /// (`Avx2::triangles2`), their hits passed to `c` as `leaf_closest`'s
+    /// loop over the blocks passes them: block 1's lanes against the
+    /// segment left after block 0's hits, as its own test would take
+    /// them. False where it is not done (other than two blocks, or no
+    /// AVX2): the loop then runs. (Two thirds of the leaves of the 100k
+    /// meshes have two blocks; their re-renders 5-12 % faster.)
+    #[inline(always)]
+    fn pair_closest(
+        &self,
+        tris: &[Block],
+        pre: &Pre4,
+        t_min: f32,
+        t_max: &mut f32,
+        c: &mut Closest,
+    ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if let ([b0, b1], Nodes::Eight(_, avx)) = (tris, &self.nodes) {
+            let h = avx.triangles2::<true>([b0, b1], pre, t_min, *t_max);
+            let mut mask = h.mask;
+            let mut limit = None;
+            while mask != 0 {
+                let l = mask.trailing_zeros() as usize & 7;
+                mask &= mask - 1;
+                // (A lane hit has a t, never NaN.)
+                if l >= 4 && h.t[l] >= *limit.get_or_insert(*t_max) {
+                    continue;
+                }
+                let (b, lane) = if l < 4 { (b0, l) } else { (b1, l - 4) };
+                let det = h.u[l] + h.v[l] + h.w[l];
+                let uv = [h.v[l] / det, h.w[l] / det];
+                c.consider(
+                    &self.recs,
+                    Hit { t: h.t[l], prim: self.prim(b, lane), uv, sub: 0 },
+                    t_max,
+                );
+            }
+            return true;
+        }
+        let _ = (tris, pre, t_min, t_max, c);
+        false
+    }
+
+    /// `block_hits` of a leaf's two triangle blocks at once, 8 lanes
+    /// wide, for a shadow ray: calls `each` on the hits in the order the
+    /// blocks' own tests give them, and gives the block of the hit for
+    /// which it returned true (`Some(None)`: none did). `None` where it is
+    /// not done (as `pair_closest`).
+    #[inline(always)]
+    fn pair_any<'a>(
+        &self,
+        tris: &'a [Block],
+        ray: &Ray,
+        (t_min, t_max): (f32, f32),
+        pre: &mut Option<Pre4>,
+        each: &mut impl FnMut(ShadowHit) -> bool,
+    ) -> Option<Option<&'a Block>> {
+        #[cfg(target_arch = "x86_64")]
+        if let ([b0, b1], Nodes::Eight(_, avx)) = (tris, &self.nodes) {
+            let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
+            let h = avx.triangles2::<false>([b0, b1], pre, t_min, t_max);
+            let mut mask = h.mask;
+            while mask != 0 {
+                let l = mask.trailing_zeros() as usize & 7;
+                mask &= mask - 1;
+                let (b, lane) = if l < 4 { (b0, l) } else { (b1, l - 4) };
+                let rec = &self.recs[self.prim(b, lane) as usize];
+                let det = h.u[l] + h.v[l] + h.w[l];
+                let uv = [h.v[l] / det, h.w[l] / det];
+                if each(ShadowHit {
+                    corners: rec.normals,
+                    uv,
+                    ..ShadowHit::new(rec.material, h.t[l])
+                }) {
+                    return Some(Some(b));
+                }
+            }
+            return Some(None);
+        }
+        let _ = (tris, ray, t_min, t_max, pre, each);
+        None
     }
 
     /// The cone and object blocks of `leaf_closest` (out of line: the
@@ -928,7 +1015,19 @@ impl Bvh {
         let mut t_end = t_max;
         let mut slabs = None;
         self.traverse::<false>(ray, t_min, &mut t_end, |slot, t_max| {
-            let leaf = self.leaf_blocks(slot);
+            let mut leaf = self.leaf_blocks(slot);
+            let mut each = |hit| {
+                through *= pass(hit);
+                through == Vec3::ZERO
+            };
+            match self.pair_any(leaf.tris, ray, (t_min, *t_max), &mut pre, &mut each) {
+                Some(Some(b)) => {
+                    *last = Occluder::of(self, b, BlockKind::Triangles);
+                    return true;
+                }
+                Some(None) => leaf.tris = &[],
+                None => {}
+            }
             let kinds = [(BlockKind::Triangles, leaf.tris), (BlockKind::Spheres, leaf.spheres)];
             for (kind, blocks) in kinds {
                 for b in blocks {

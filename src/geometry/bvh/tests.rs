@@ -535,6 +535,82 @@ fn eight_lane_entering_is_four_lane_entering() {
     assert!(some > 200 && partial > 50, "{some} {partial}");
 }
 
+/// The two-block triangle test (`Avx2::triangles2`) gives each block's
+/// own four-lane test's answers to the bit, with and without the early
+/// return: the lanes hit, their t, and the edge functions (whose zeros
+/// go to double precision). Triangles of a grid with integer corners
+/// (rays at its corners and edges make the edge functions exactly zero)
+/// and random ones, blocks with empty lanes, segments cut short.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn two_blocks_at_once_are_each_block_alone() {
+    let Some(avx) = wide::Avx2::new() else { return };
+    let v = |x: i32, y: i32| Vec3::new(x as f32, y as f32, 0.0);
+    let tri = |p| Shape::Triangle(Triangle { p, normals: [Triangle::FLAT; 3], material: 0 });
+    let mut grid = Vec::new();
+    for y in 0..2 {
+        for x in 0..2 {
+            grid.push(tri([v(x, y), v(x + 1, y), v(x + 1, y + 1)]));
+            grid.push(tri([v(x, y), v(x + 1, y + 1), v(x, y + 1)]));
+        }
+    }
+    let mut seed = 17;
+    let (mut hits, mut edges) = (0, 0);
+    for k in 0..3000 {
+        let shapes: Vec<(u32, Shape)> = if k % 2 == 0 {
+            grid.iter().copied().enumerate().map(|(i, s)| (i as u32, s)).collect()
+        } else {
+            let n = [8, 7, 5][k % 3];
+            let mut p = || Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 2.0;
+            (0..n).map(|i| (i, tri([p(), p(), p()]))).collect()
+        };
+        let (b0, b1) = (Block::of(&shapes[..4]), Block::of(&shapes[4..]));
+        let o =
+            Vec3::new(lcg(&mut seed) * 4.0 - 1.0, lcg(&mut seed) * 4.0 - 1.0, 2.0 + lcg(&mut seed));
+        // At a corner or an edge's middle of the grid, or anywhere.
+        let target = if k % 4 < 2 {
+            Vec3::new((k % 5) as f32 / 2.0, (k / 5 % 5) as f32 / 2.0, 0.0)
+        } else {
+            Vec3::new(lcg(&mut seed) * 2.0, lcg(&mut seed) * 2.0, lcg(&mut seed))
+        };
+        let ray = Ray::new(o, target - o);
+        let pre = Pre4::new(&ray, &RayPre::new(ray.dir));
+        let (t_min, t_max) = ([0.0, 1.5][k % 2], [f32::INFINITY, 2.5, 3.0][k % 3]);
+        for early in [false, true] {
+            let h = if early {
+                avx.triangles2::<true>([&b0, &b1], &pre, t_min, t_max)
+            } else {
+                avx.triangles2::<false>([&b0, &b1], &pre, t_min, t_max)
+            };
+            let mut mask = 0;
+            for (j, b) in [&b0, &b1].into_iter().enumerate() {
+                let (m, t, [u, vv, w]) = if early {
+                    b.triangles::<true>(&pre, t_min, t_max)
+                } else {
+                    b.triangles::<false>(&pre, t_min, t_max)
+                };
+                mask |= m << (4 * j);
+                for l in 0..4 {
+                    let i = 4 * j + l;
+                    let same =
+                        |a: f32, b: f32| a.to_bits() == b.to_bits() || a.is_nan() && b.is_nan();
+                    assert!(
+                        same(h.u[i], u[l]) && same(h.v[i], vv[l]) && same(h.w[i], w[l]),
+                        "{k} lane {i}"
+                    );
+                    edges += (u[l] == 0.0 || vv[l] == 0.0 || w[l] == 0.0) as u32;
+                    if m & (1 << l) != 0 {
+                        assert_eq!(h.t[i].to_bits(), t[l].to_bits(), "{k} lane {i}");
+                    }
+                }
+            }
+            assert_eq!(h.mask, mask, "{k} early {early}");
+            hits += mask.count_ones();
+        }
+    }
+    assert!(hits > 1000 && edges > 100, "{hits} {edges}");
+}
+
 /// The same for shadow packets (`Segments::entering8`): segments from
 /// points spread on a surface toward a light, some of them no longer
 /// live.

@@ -7,7 +7,9 @@
 //!
 //! The 8-wide test goes through `pulp`'s safe wrappers of the AVX
 //! intrinsics, inside a function compiled for AVX2 (`Avx2::run`), so the
-//! crate keeps `unsafe_code = "forbid"`.
+//! crate keeps `unsafe_code = "forbid"`. The same token tests a leaf's two
+//! blocks of triangles in one 256-bit pass (`Avx2::triangles2`), each
+//! lane the four-lane test's arithmetic.
 
 use glam::Vec4;
 
@@ -297,8 +299,11 @@ pub(super) use avx::{Avx2, Wide8};
 
 #[cfg(target_arch = "x86_64")]
 mod avx {
+    use glam::Vec4;
     use pulp::x86::V3;
-    use std::arch::x86_64::{__m256, _CMP_LE_OS};
+    use std::arch::x86_64::{__m128, __m256, _CMP_EQ_OQ, _CMP_LE_OS, _CMP_LT_OQ, _CMP_NEQ_UQ};
+
+    use super::super::super::blocks::{Block, Pre4};
 
     use super::{
         Aabb, Frustum, Kernel, PACKET, Prefetch, ROBUST, Ray, Rays, Segments, inv, near_planes,
@@ -334,6 +339,145 @@ mod avx {
         #[inline(always)]
         pub fn run<R>(self, f: impl FnOnce() -> R) -> R {
             self.0.vectorize(f)
+        }
+    }
+
+    /// What `Avx2::triangles2` finds: the lanes hit (block 0's in bits
+    /// 0-3, block 1's in 4-7), and per lane t and the edge functions.
+    pub(in super::super) struct Hits8 {
+        pub mask: u32,
+        pub t: [f32; 8],
+        pub u: [f32; 8],
+        pub v: [f32; 8],
+        pub w: [f32; 8],
+    }
+
+    /// The 256-bit operations of `Avx2::triangles2`, as methods (closures
+    /// were not inlined into the AVX2 function: each operation a call).
+    #[derive(Clone, Copy)]
+    struct Ops(V3);
+
+    impl Ops {
+        #[inline(always)]
+        fn sub(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_sub_ps(a, b)
+        }
+        #[inline(always)]
+        fn mul(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_mul_ps(a, b)
+        }
+        #[inline(always)]
+        fn add(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_add_ps(a, b)
+        }
+        #[inline(always)]
+        fn or(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_or_ps(a, b)
+        }
+        #[inline(always)]
+        fn and(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_and_ps(a, b)
+        }
+        /// `a & !b`.
+        #[inline(always)]
+        fn and_not(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_andnot_ps(b, a)
+        }
+        #[inline(always)]
+        fn eq(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_cmp_ps::<_CMP_EQ_OQ>(a, b)
+        }
+        #[inline(always)]
+        fn lt(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_cmp_ps::<_CMP_LT_OQ>(a, b)
+        }
+        #[inline(always)]
+        fn ne(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_cmp_ps::<_CMP_NEQ_UQ>(a, b)
+        }
+        #[inline(always)]
+        fn bits(self, a: __m256) -> u32 {
+            self.0.avx._mm256_movemask_ps(a) as u32
+        }
+        /// Lanes 0-3 from `lo`, 4-7 from `hi`.
+        #[inline(always)]
+        fn join(self, lo: Vec4, hi: Vec4) -> __m256 {
+            let (lo, hi): (__m128, __m128) = (pulp::cast(lo), pulp::cast(hi));
+            self.0.avx._mm256_set_m128(hi, lo)
+        }
+    }
+
+    impl Avx2 {
+        /// `Block::triangles::<EARLY>` on two blocks at once, 256 bits
+        /// wide: each lane the 4-wide test's arithmetic, to the bit (no
+        /// fused multiply-adds; the edge functions that come out zero
+        /// decided again in double precision, lane by lane).
+        #[inline(never)]
+        pub fn triangles2<const EARLY: bool>(
+            self,
+            b: [&Block; 2],
+            r: &Pre4,
+            t_min: f32,
+            t_max: f32,
+        ) -> Hits8 {
+            let x = Ops(self.0);
+            self.0.vectorize(
+                #[inline(always)]
+                move || {
+                    let [kx, ky, kz] = r.k;
+                    let o = r.o.map(|v| x.join(v, v));
+                    let s = r.s.map(|v| x.join(v, v));
+                    let v = |k: usize| x.join(b[0].v[k], b[1].v[k]);
+                    let (a0, a1, a2) = (x.sub(v(kx), o[0]), x.sub(v(ky), o[1]), x.sub(v(kz), o[2]));
+                    let (b0, b1, b2) =
+                        (x.sub(v(3 + kx), o[0]), x.sub(v(3 + ky), o[1]), x.sub(v(3 + kz), o[2]));
+                    let (c0, c1, c2) =
+                        (x.sub(v(6 + kx), o[0]), x.sub(v(6 + ky), o[1]), x.sub(v(6 + kz), o[2]));
+                    let (ax, ay) = (x.sub(a0, x.mul(s[0], a2)), x.sub(a1, x.mul(s[1], a2)));
+                    let (bx, by) = (x.sub(b0, x.mul(s[0], b2)), x.sub(b1, x.mul(s[1], b2)));
+                    let (cx, cy) = (x.sub(c0, x.mul(s[0], c2)), x.sub(c1, x.mul(s[1], c2)));
+                    let mut u = x.sub(x.mul(cx, by), x.mul(cy, bx));
+                    let mut vv = x.sub(x.mul(ax, cy), x.mul(ay, cx));
+                    let mut w = x.sub(x.mul(bx, ay), x.mul(by, ax));
+                    let zero = self.0.avx._mm256_setzero_ps();
+                    let edge = x.bits(x.or(x.or(x.eq(u, zero), x.eq(vv, zero)), x.eq(w, zero)));
+                    if edge != 0 {
+                        let f = |x: __m256| -> [f32; 8] { pulp::cast(x) };
+                        let (cx, cy, bx, by, ax, ay) = (f(cx), f(cy), f(bx), f(by), f(ax), f(ay));
+                        let (mut ua, mut va, mut wa) = (f(u), f(vv), f(w));
+                        let d = |x1: f32, y1: f32, x2: f32, y2: f32| {
+                            (x1 as f64 * y2 as f64 - y1 as f64 * x2 as f64) as f32
+                        };
+                        for l in (0..8).filter(|&l| edge & (1 << l) != 0) {
+                            ua[l] = d(cx[l], cy[l], bx[l], by[l]);
+                            va[l] = d(ax[l], ay[l], cx[l], cy[l]);
+                            wa[l] = d(bx[l], by[l], ax[l], ay[l]);
+                        }
+                        (u, vv, w) = (pulp::cast(ua), pulp::cast(va), pulp::cast(wa));
+                    }
+                    let neg = x.or(x.or(x.lt(u, zero), x.lt(vv, zero)), x.lt(w, zero));
+                    let pos = x.or(x.or(x.lt(zero, u), x.lt(zero, vv)), x.lt(zero, w));
+                    let det = x.add(x.add(u, vv), w);
+                    let inside = x.and_not(x.ne(det, zero), x.and(neg, pos));
+                    let hits = |mask, t| Hits8 {
+                        mask,
+                        t,
+                        u: pulp::cast(u),
+                        v: pulp::cast(vv),
+                        w: pulp::cast(w),
+                    };
+                    if EARLY && x.bits(inside) == 0 {
+                        return hits(0, [0.0; 8]);
+                    }
+                    let (az, bz, cz) = (x.mul(s[2], a2), x.mul(s[2], b2), x.mul(s[2], c2));
+                    let t = x.add(x.add(x.mul(u, az), x.mul(vv, bz)), x.mul(w, cz));
+                    let t = self.0.avx._mm256_div_ps(t, det);
+                    let (lo, hi) =
+                        (self.0.avx._mm256_set1_ps(t_min), self.0.avx._mm256_set1_ps(t_max));
+                    let ok = x.and(x.and(inside, x.lt(lo, t)), x.lt(t, hi));
+                    hits(x.bits(ok), pulp::cast(t))
+                },
+            )
         }
     }
 
