@@ -789,8 +789,7 @@ impl Bvh {
                     continue;
                 }
                 let (b, lane) = if l < 4 { (b0, l) } else { (b1, l - 4) };
-                let det = h.u[l] + h.v[l] + h.w[l];
-                let uv = [h.v[l] / det, h.w[l] / det];
+                let uv = [h.u[l], h.v[l]];
                 c.consider(
                     &self.recs,
                     Hit { t: h.t[l], prim: self.prim(b, lane), uv, sub: 0 },
@@ -827,8 +826,7 @@ impl Bvh {
                 mask &= mask - 1;
                 let (b, lane) = if l < 4 { (b0, l) } else { (b1, l - 4) };
                 let rec = &self.recs[self.prim(b, lane) as usize];
-                let det = h.u[l] + h.v[l] + h.w[l];
-                let uv = [h.v[l] / det, h.w[l] / det];
+                let uv = [h.u[l], h.v[l]];
                 if each(ShadowHit {
                     corners: rec.normals,
                     uv,

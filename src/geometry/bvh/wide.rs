@@ -343,13 +343,13 @@ mod avx {
     }
 
     /// What `Avx2::triangles2` finds: the lanes hit (block 0's in bits
-    /// 0-3, block 1's in 4-7), and per lane t and the edge functions.
+    /// 0-3, block 1's in 4-7), and per lane hit its t and the weights of
+    /// vertices 1 and 2 (`each_triangle_hit`'s).
     pub(in super::super) struct Hits8 {
         pub mask: u32,
         pub t: [f32; 8],
         pub u: [f32; 8],
         pub v: [f32; 8],
-        pub w: [f32; 8],
     }
 
     /// The 256-bit operations of `Avx2::triangles2`, as methods (closures
@@ -459,23 +459,21 @@ mod avx {
                     let pos = x.or(x.or(x.lt(zero, u), x.lt(zero, vv)), x.lt(zero, w));
                     let det = x.add(x.add(u, vv), w);
                     let inside = x.and_not(x.ne(det, zero), x.and(neg, pos));
-                    let hits = |mask, t| Hits8 {
-                        mask,
-                        t,
-                        u: pulp::cast(u),
-                        v: pulp::cast(vv),
-                        w: pulp::cast(w),
-                    };
+                    let none = Hits8 { mask: 0, t: [0.0; 8], u: [0.0; 8], v: [0.0; 8] };
                     if EARLY && x.bits(inside) == 0 {
-                        return hits(0, [0.0; 8]);
+                        return none;
                     }
                     let (az, bz, cz) = (x.mul(s[2], a2), x.mul(s[2], b2), x.mul(s[2], c2));
                     let t = x.add(x.add(x.mul(u, az), x.mul(vv, bz)), x.mul(w, cz));
                     let t = self.0.avx._mm256_div_ps(t, det);
                     let (lo, hi) =
                         (self.0.avx._mm256_set1_ps(t_min), self.0.avx._mm256_set1_ps(t_max));
-                    let ok = x.and(x.and(inside, x.lt(lo, t)), x.lt(t, hi));
-                    hits(x.bits(ok), pulp::cast(t))
+                    let mask = x.bits(x.and(x.and(inside, x.lt(lo, t)), x.lt(t, hi)));
+                    if mask == 0 {
+                        return none;
+                    }
+                    let div = |a| self.0.avx._mm256_div_ps(a, det);
+                    Hits8 { mask, t: pulp::cast(t), u: pulp::cast(div(vv)), v: pulp::cast(div(w)) }
                 },
             )
         }
