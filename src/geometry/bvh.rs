@@ -746,13 +746,15 @@ impl Bvh {
                 }
             }
         }
-        for b in leaf.spheres {
-            let (mut mask, t) = b.spheres(ray, t_min, *t_max);
-            while mask != 0 {
-                let l = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let hit = Hit { t: t[l], prim: self.prim(b, l), uv: [0.0; 2], sub: 0 };
-                c.consider(&self.recs, hit, t_max);
+        if !self.pair_spheres_closest(leaf.spheres, ray, t_min, t_max, c) {
+            for b in leaf.spheres {
+                let (mut mask, t) = b.spheres(ray, t_min, *t_max);
+                while mask != 0 {
+                    let l = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    let hit = Hit { t: t[l], prim: self.prim(b, l), uv: [0.0; 2], sub: 0 };
+                    c.consider(&self.recs, hit, t_max);
+                }
             }
         }
         if leaf.has_rest() {
@@ -779,65 +781,112 @@ impl Bvh {
         #[cfg(target_arch = "x86_64")]
         if let ([b0, b1], Nodes::Eight(_, avx)) = (tris, &self.nodes) {
             let h = avx.triangles2::<true>([b0, b1], pre, t_min, *t_max);
-            let mut mask = h.mask;
-            let mut limit = None;
-            while mask != 0 {
-                let l = mask.trailing_zeros() as usize & 7;
-                mask &= mask - 1;
-                // (A lane hit has a t, never NaN.)
-                if l >= 4 && h.t[l] >= *limit.get_or_insert(*t_max) {
-                    continue;
-                }
-                let (b, lane) = if l < 4 { (b0, l) } else { (b1, l - 4) };
-                let uv = [h.u[l], h.v[l]];
-                c.consider(
-                    &self.recs,
-                    Hit { t: h.t[l], prim: self.prim(b, lane), uv, sub: 0 },
-                    t_max,
-                );
-            }
+            self.consider_pair([b0, b1], (h.mask, &h.t), |l| [h.u[l], h.v[l]], t_max, c);
             return true;
         }
         let _ = (tris, pre, t_min, t_max, c);
         false
     }
 
-    /// `block_hits` of a leaf's two triangle blocks at once, 8 lanes
-    /// wide, for a shadow ray: calls `each` on the hits in the order the
-    /// blocks' own tests give them, and gives the block of the hit for
-    /// which it returned true (`Some(None)`: none did). `None` where it is
-    /// not done (as `pair_closest`).
+    /// `pair_closest` for a leaf's two blocks of spheres
+    /// (`Avx2::spheres2`).
+    #[inline(always)]
+    fn pair_spheres_closest(
+        &self,
+        spheres: &[Block],
+        ray: &Ray,
+        t_min: f32,
+        t_max: &mut f32,
+        c: &mut Closest,
+    ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if let ([b0, b1], Nodes::Eight(_, avx)) = (spheres, &self.nodes) {
+            let (mask, t) = avx.spheres2([b0, b1], ray, t_min, *t_max);
+            self.consider_pair([b0, b1], (mask, &t), |_| [0.0; 2], t_max, c);
+            return true;
+        }
+        let _ = (spheres, ray, t_min, t_max, c);
+        false
+    }
+
+    /// Passes the hits of a two-block test (lanes `mask` of `t`, 0-3 in
+    /// block 0, 4-7 in block 1; `uv` of a lane) to `c` as the blocks' own
+    /// tests, one after the other, would pass them: block 1's against the
+    /// segment left after block 0's hits. (A lane hit has a t, never
+    /// NaN.)
+    #[inline(always)]
+    fn consider_pair(
+        &self,
+        [b0, b1]: [&Block; 2],
+        (mut mask, t): (u32, &[f32; 8]),
+        uv: impl Fn(usize) -> [f32; 2],
+        t_max: &mut f32,
+        c: &mut Closest,
+    ) {
+        let mut limit = None;
+        while mask != 0 {
+            let l = mask.trailing_zeros() as usize & 7;
+            mask &= mask - 1;
+            if l >= 4 && t[l] >= *limit.get_or_insert(*t_max) {
+                continue;
+            }
+            let (b, lane) = if l < 4 { (b0, l) } else { (b1, l - 4) };
+            let hit = Hit { t: t[l], prim: self.prim(b, lane), uv: uv(l), sub: 0 };
+            c.consider(&self.recs, hit, t_max);
+        }
+    }
+
+    /// `block_hits` of a leaf's two blocks of `kind` (triangles or
+    /// spheres) at once, 8 lanes wide, for a shadow ray: calls `each` on
+    /// the hits in the order the blocks' own tests give them, and gives
+    /// the block of the hit for which it returned true (`Some(None)`:
+    /// none did). `None` where it is not done (as `pair_closest`).
     #[inline(always)]
     fn pair_any<'a>(
         &self,
-        tris: &'a [Block],
+        (kind, blocks): (BlockKind, &'a [Block]),
         ray: &Ray,
         (t_min, t_max): (f32, f32),
         pre: &mut Option<Pre4>,
         each: &mut impl FnMut(ShadowHit) -> bool,
     ) -> Option<Option<&'a Block>> {
         #[cfg(target_arch = "x86_64")]
-        if let ([b0, b1], Nodes::Eight(_, avx)) = (tris, &self.nodes) {
-            let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
-            let h = avx.triangles2::<false>([b0, b1], pre, t_min, t_max);
-            let mut mask = h.mask;
-            while mask != 0 {
-                let l = mask.trailing_zeros() as usize & 7;
-                mask &= mask - 1;
-                let (b, lane) = if l < 4 { (b0, l) } else { (b1, l - 4) };
-                let rec = &self.recs[self.prim(b, lane) as usize];
-                let uv = [h.u[l], h.v[l]];
-                if each(ShadowHit {
-                    corners: rec.normals,
-                    uv,
-                    ..ShadowHit::new(rec.material, h.t[l])
-                }) {
-                    return Some(Some(b));
+        if let ([b0, b1], Nodes::Eight(_, avx)) = (blocks, &self.nodes) {
+            match kind {
+                BlockKind::Triangles => {
+                    let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
+                    let h = avx.triangles2::<false>([b0, b1], pre, t_min, t_max);
+                    let mut mask = h.mask;
+                    while mask != 0 {
+                        let l = mask.trailing_zeros() as usize & 7;
+                        mask &= mask - 1;
+                        let (b, lane) = if l < 4 { (b0, l) } else { (b1, l - 4) };
+                        let rec = &self.recs[self.prim(b, lane) as usize];
+                        let uv = [h.u[l], h.v[l]];
+                        if each(ShadowHit {
+                            corners: rec.normals,
+                            uv,
+                            ..ShadowHit::new(rec.material, h.t[l])
+                        }) {
+                            return Some(Some(b));
+                        }
+                    }
                 }
+                BlockKind::Spheres => {
+                    let (mask, t) = avx.spheres2([b0, b1], ray, t_min, t_max);
+                    for (k, b) in [b0, b1].into_iter().enumerate() {
+                        let first = Vec4::from_slice(&t[4 * k..4 * k + 4]);
+                        let again = |l, t| b.sphere(l, ray, t, t_max);
+                        if self.lane_crossings(b, (mask >> (4 * k) & 15, first), each, again) {
+                            return Some(Some(b));
+                        }
+                    }
+                }
+                BlockKind::Cones => return None,
             }
             return Some(None);
         }
-        let _ = (tris, ray, t_min, t_max, pre, each);
+        let _ = (kind, blocks, ray, t_min, t_max, pre, each);
         None
     }
 
@@ -1013,27 +1062,24 @@ impl Bvh {
         let mut t_end = t_max;
         let mut slabs = None;
         self.traverse::<false>(ray, t_min, &mut t_end, |slot, t_max| {
-            let mut leaf = self.leaf_blocks(slot);
-            let mut each = |hit| {
-                through *= pass(hit);
-                through == Vec3::ZERO
-            };
-            match self.pair_any(leaf.tris, ray, (t_min, *t_max), &mut pre, &mut each) {
-                Some(Some(b)) => {
-                    *last = Occluder::of(self, b, BlockKind::Triangles);
-                    return true;
-                }
-                Some(None) => leaf.tris = &[],
-                None => {}
-            }
+            let leaf = self.leaf_blocks(slot);
             let kinds = [(BlockKind::Triangles, leaf.tris), (BlockKind::Spheres, leaf.spheres)];
             for (kind, blocks) in kinds {
+                let mut each = |hit| {
+                    through *= pass(hit);
+                    through == Vec3::ZERO
+                };
+                let seg = (t_min, *t_max);
+                match self.pair_any((kind, blocks), ray, seg, &mut pre, &mut each) {
+                    Some(Some(b)) => {
+                        *last = Occluder::of(self, b, kind);
+                        return true;
+                    }
+                    Some(None) => continue,
+                    None => {}
+                }
                 for b in blocks {
-                    let mut each = |hit| {
-                        through *= pass(hit);
-                        through == Vec3::ZERO
-                    };
-                    if self.block_hits(b, kind, ray, (t_min, *t_max), &mut pre, &mut each) {
+                    if self.block_hits(b, kind, ray, seg, &mut pre, &mut each) {
                         *last = Occluder::of(self, b, kind);
                         return true;
                     }

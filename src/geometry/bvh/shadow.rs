@@ -418,14 +418,13 @@ impl Bvh {
         each: &mut impl FnMut(ShadowHit) -> bool,
     ) -> Option<Option<(&'a Block, BlockKind)>> {
         let seg = (0.0, t_max);
-        let mut leaf = leaf;
-        match self.pair_any(leaf.tris, ray, seg, pre, each) {
-            Some(Some(b)) => return Some(Some((b, BlockKind::Triangles))),
-            Some(None) => leaf.tris = &[],
-            None => {}
-        }
         let kinds = [(BlockKind::Triangles, leaf.tris), (BlockKind::Spheres, leaf.spheres)];
         for (kind, blocks) in kinds {
+            match self.pair_any((kind, blocks), ray, seg, pre, each) {
+                Some(Some(b)) => return Some(Some((b, kind))),
+                Some(None) => continue,
+                None => {}
+            }
             for b in blocks {
                 if self.block_hits(b, kind, ray, seg, pre, each) {
                     return Some(Some((b, kind)));

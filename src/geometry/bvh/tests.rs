@@ -609,6 +609,45 @@ fn two_blocks_at_once_are_each_block_alone() {
     assert!(hits > 1000 && edges > 100, "{hits} {edges}");
 }
 
+/// The two-block sphere test (`Avx2::spheres2`) gives each block's own
+/// four-lane test's lanes and roots to the bit: random spheres, blocks
+/// with empty lanes, rays from outside, inside and on a surface, and
+/// random windows.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn two_sphere_blocks_at_once_are_each_block_alone() {
+    let Some(avx) = wide::Avx2::new() else { return };
+    let mut seed = 23;
+    let mut hits = 0;
+    for round in 0..3000 {
+        let n = [8, 7, 5][round % 3];
+        let shapes: Vec<(u32, Shape)> = (0..n)
+            .map(|i| {
+                let center = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 4.0;
+                (i, Shape::Sphere { center, radius: 0.1 + lcg(&mut seed) * 2.0, material: 0 })
+            })
+            .collect();
+        let (b0, b1) = (Block::of(&shapes[..4]), Block::of(&shapes[4..]));
+        let o = match (round % 4, shapes[round % 8 % n as usize].1) {
+            (0, Shape::Sphere { center, radius, .. }) => center + Vec3::X * radius,
+            _ => Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 8.0 - 2.0,
+        };
+        let d = Vec3::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) - 0.5;
+        let ray = Ray::new(o, d);
+        let (t_min, t_max) = (lcg(&mut seed) * 0.5, 1.0 + lcg(&mut seed) * 20.0);
+        let (mask, t) = avx.spheres2([&b0, &b1], &ray, t_min, t_max);
+        for (j, b) in [&b0, &b1].into_iter().enumerate() {
+            let (m, tb) = b.spheres(&ray, t_min, t_max);
+            assert_eq!(mask >> (4 * j) & 15, m, "round {round} block {j}");
+            for l in (0..4).filter(|l| m & 1 << l != 0) {
+                assert_eq!(t[4 * j + l].to_bits(), tb[l].to_bits(), "round {round} lane {l}");
+            }
+        }
+        hits += mask.count_ones();
+    }
+    assert!(hits > 1000, "{hits}");
+}
+
 /// The same for shadow packets (`Segments::entering8`): segments from
 /// points spread on a surface toward a light, some of them no longer
 /// live.

@@ -301,7 +301,9 @@ pub(super) use avx::{Avx2, Wide8};
 mod avx {
     use glam::Vec4;
     use pulp::x86::V3;
-    use std::arch::x86_64::{__m128, __m256, _CMP_EQ_OQ, _CMP_LE_OS, _CMP_LT_OQ, _CMP_NEQ_UQ};
+    use std::arch::x86_64::{
+        __m128, __m256, _CMP_EQ_OQ, _CMP_LE_OQ, _CMP_LE_OS, _CMP_LT_OQ, _CMP_NEQ_UQ,
+    };
 
     use super::super::super::blocks::{Block, Pre4};
 
@@ -392,12 +394,29 @@ mod avx {
             self.0.avx._mm256_cmp_ps::<_CMP_LT_OQ>(a, b)
         }
         #[inline(always)]
+        fn le(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_cmp_ps::<_CMP_LE_OQ>(a, b)
+        }
+        #[inline(always)]
         fn ne(self, a: __m256, b: __m256) -> __m256 {
             self.0.avx._mm256_cmp_ps::<_CMP_NEQ_UQ>(a, b)
         }
         #[inline(always)]
         fn bits(self, a: __m256) -> u32 {
             self.0.avx._mm256_movemask_ps(a) as u32
+        }
+        #[inline(always)]
+        fn div(self, a: __m256, b: __m256) -> __m256 {
+            self.0.avx._mm256_div_ps(a, b)
+        }
+        #[inline(always)]
+        fn splat(self, a: f32) -> __m256 {
+            self.0.avx._mm256_set1_ps(a)
+        }
+        /// Where `m`, `a`; elsewhere `b` (`Vec4::select`'s bits).
+        #[inline(always)]
+        fn select(self, m: __m256, a: __m256, b: __m256) -> __m256 {
+            self.or(self.and_not(b, m), self.and(a, m))
         }
         /// Lanes 0-3 from `lo`, 4-7 from `hi`.
         #[inline(always)]
@@ -474,6 +493,68 @@ mod avx {
                     }
                     let div = |a| self.0.avx._mm256_div_ps(a, det);
                     Hits8 { mask, t: pulp::cast(t), u: pulp::cast(div(vv)), v: pulp::cast(div(w)) }
+                },
+            )
+        }
+    }
+
+    impl Avx2 {
+        /// `Block::spheres` on two blocks at once, 256 bits wide, each
+        /// lane its arithmetic to the bit: the lanes hit (block 0's in bits
+        /// 0-3, block 1's in 4-7) and per lane the nearest root within
+        /// the segment.
+        #[inline(never)]
+        pub fn spheres2(
+            self,
+            b: [&Block; 2],
+            ray: &Ray,
+            t_min: f32,
+            t_max: f32,
+        ) -> (u32, [f32; 8]) {
+            let x = Ops(self.0);
+            self.0.vectorize(
+                #[inline(always)]
+                move || {
+                    let v = |k: usize| x.join(b[0].v[k], b[1].v[k]);
+                    let (d, o) = (ray.dir, ray.origin);
+                    let (dx, dy, dz) = (x.splat(d.x), x.splat(d.y), x.splat(d.z));
+                    let (fx, fy, fz) = (
+                        x.sub(x.splat(o.x), v(0)),
+                        x.sub(x.splat(o.y), v(1)),
+                        x.sub(x.splat(o.z), v(2)),
+                    );
+                    let r = v(3);
+                    let r2 = x.mul(r, r);
+                    let a = x.splat(d.length_squared());
+                    let dot = |px, py, pz, qx, qy, qz| {
+                        x.add(x.add(x.mul(px, qx), x.mul(py, qy)), x.mul(pz, qz))
+                    };
+                    let minus = x.splat(-0.0);
+                    let bb = self.0.avx._mm256_xor_ps(minus, dot(fx, fy, fz, dx, dy, dz));
+                    let ba = x.div(bb, a);
+                    let (lx, ly, lz) = (
+                        x.add(fx, x.mul(dx, ba)),
+                        x.add(fy, x.mul(dy, ba)),
+                        x.add(fz, x.mul(dz, ba)),
+                    );
+                    let disc = x.mul(a, x.sub(r2, dot(lx, ly, lz, lx, ly, lz)));
+                    let zero = self.0.avx._mm256_setzero_ps();
+                    if x.bits(x.le(zero, disc)) == 0 {
+                        return (0, [0.0; 8]);
+                    }
+                    let c = x.sub(dot(fx, fy, fz, fx, fy, fz), r2);
+                    // `Vec4::signum`: ±1 by the sign bit, NaN kept.
+                    let one = x.or(x.and(bb, x.splat(-1.0)), x.splat(1.0));
+                    let sign = x.select(x.ne(bb, bb), bb, one);
+                    let q = x.add(bb, x.mul(sign, self.0.avx._mm256_sqrt_ps(disc)));
+                    let (t0, t1) = (x.div(c, q), x.div(q, a));
+                    let order = x.lt(t0, t1);
+                    let (lo, hi) = (x.select(order, t0, t1), x.select(order, t1, t0));
+                    let (min, max) = (x.splat(t_min), x.splat(t_max));
+                    let in_lo = x.and(x.lt(min, lo), x.lt(lo, max));
+                    let in_hi = x.and(x.lt(min, hi), x.lt(hi, max));
+                    let ok = x.and(x.and_not(x.ne(q, zero), x.lt(disc, zero)), x.or(in_lo, in_hi));
+                    (x.bits(ok), pulp::cast(x.select(in_lo, lo, hi)))
                 },
             )
         }
