@@ -16,7 +16,8 @@
 //!   the BVH (a binned SAH binary tree collapsed by the least-area plan,
 //!   `bvh::Plan`, into 8-wide nodes where the CPU has AVX2, else 4-wide:
 //!   `bvh::wide`) whose leaves hold blocks of four primitives tested in
-//!   SIMD lanes (`blocks`: coordinates only; a record per lane), walked
+//!   SIMD lanes (`blocks`: coordinates only; a record per lane; a leaf's
+//!   two blocks of triangles or spheres in one AVX2 pass), walked
 //!   by single rays, by packets of camera rays (`bvh::packet`) or of
 //!   shadow rays toward one light (`bvh::shadow`), and
 //!   objects, leaves of their own kind (`object`): placed
