@@ -8,8 +8,8 @@
 //! The 8-wide test goes through `pulp`'s safe wrappers of the AVX
 //! intrinsics, inside a function compiled for AVX2 (`Avx2::run`), so the
 //! crate keeps `unsafe_code = "forbid"`. The same token tests a leaf's two
-//! blocks of triangles in one 256-bit pass (`Avx2::triangles2`), each
-//! lane the four-lane test's arithmetic.
+//! blocks of triangles or spheres in one 256-bit pass (`Avx2::triangles2`,
+//! `Avx2::spheres2`), each lane the four-lane test's arithmetic.
 
 use glam::Vec4;
 
@@ -354,8 +354,9 @@ mod avx {
         pub v: [f32; 8],
     }
 
-    /// The 256-bit operations of `Avx2::triangles2`, as methods (closures
-    /// were not inlined into the AVX2 function: each operation a call).
+    /// The 256-bit operations of the two-block tests, as methods (written
+    /// as closures they were not inlined into the AVX2 function: each
+    /// operation a call, and renders twice as slow).
     #[derive(Clone, Copy)]
     struct Ops(V3);
 
@@ -484,21 +485,18 @@ mod avx {
                     }
                     let (az, bz, cz) = (x.mul(s[2], a2), x.mul(s[2], b2), x.mul(s[2], c2));
                     let t = x.add(x.add(x.mul(u, az), x.mul(vv, bz)), x.mul(w, cz));
-                    let t = self.0.avx._mm256_div_ps(t, det);
-                    let (lo, hi) =
-                        (self.0.avx._mm256_set1_ps(t_min), self.0.avx._mm256_set1_ps(t_max));
+                    let t = x.div(t, det);
+                    let (lo, hi) = (x.splat(t_min), x.splat(t_max));
                     let mask = x.bits(x.and(x.and(inside, x.lt(lo, t)), x.lt(t, hi)));
                     if mask == 0 {
                         return none;
                     }
-                    let div = |a| self.0.avx._mm256_div_ps(a, det);
-                    Hits8 { mask, t: pulp::cast(t), u: pulp::cast(div(vv)), v: pulp::cast(div(w)) }
+                    let (u, v) = (x.div(vv, det), x.div(w, det));
+                    Hits8 { mask, t: pulp::cast(t), u: pulp::cast(u), v: pulp::cast(v) }
                 },
             )
         }
-    }
 
-    impl Avx2 {
         /// `Block::spheres` on two blocks at once, 256 bits wide, each
         /// lane its arithmetic to the bit: the lanes hit (block 0's in bits
         /// 0-3, block 1's in 4-7) and per lane the nearest root within
