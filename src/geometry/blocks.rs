@@ -160,6 +160,7 @@ impl Block {
     }
 
     /// The primitive in `lane`, as a shape.
+    #[inline]
     pub fn shape(&self, lane: usize, rec: &Rec) -> Shape {
         let v = |i: usize| self.v[i][lane];
         match rec.kind() {

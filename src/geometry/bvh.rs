@@ -612,7 +612,10 @@ impl Bvh {
         if let Some(obj) = self.object(hit.prim) {
             return obj.locate(ray, hit.t, hit.uv, hit.sub);
         }
-        let local = match self.shape(hit.prim) {
+        // (Not through `shape`: an unbounded primitive is an object, so
+        // the block's lane is the shape; the lane read inlined.)
+        let p = hit.prim as usize;
+        let local = match self.blocks[p / 4].shape(p % 4, rec) {
             Shape::Triangle(t) => Local::Triangle(t),
             Shape::Sphere { center, radius, .. } => Local::Sphere { center, radius },
             Shape::Cone(c) => Local::Solid { normal: c.normal(ray.at(hit.t), hit.sub) },
