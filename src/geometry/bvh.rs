@@ -612,8 +612,8 @@ impl Bvh {
         if let Some(obj) = self.object(hit.prim) {
             return obj.locate(ray, hit.t, hit.uv, hit.sub);
         }
-        // (Not through `shape`: an unbounded primitive is an object, so
-        // the block's lane is the shape; the lane read inlined.)
+        // (Not through `shape`, which first looks among the unbounded
+        // primitives: those are objects, so the block's lane is the shape.)
         let p = hit.prim as usize;
         let local = match self.blocks[p / 4].shape(p % 4, rec) {
             Shape::Triangle(t) => Local::Triangle(t),
