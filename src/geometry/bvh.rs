@@ -1285,6 +1285,7 @@ impl Bvh {
         mut leaf: impl FnMut(Slot, &mut f32) -> bool,
     ) -> u32 {
         let slabs = kernel.slabs(ray);
+        let slabs = wide::in_place(&slabs);
         // A walk never holds more than N - 1 entries a level; more would
         // mean a broken tree or ray: stop.
         let limit = (K::Node::N - 1) * self.depth + 4;
@@ -1300,7 +1301,7 @@ impl Bvh {
                 }
             } else {
                 let n = &nodes[current.child as usize];
-                let (mut mask, near) = kernel.hit(n, &slabs, t_min, *t_max);
+                let (mut mask, near) = kernel.hit(n, slabs, t_min, *t_max);
                 if mask != 0 {
                     // Masked to the lanes there are, provably, so no
                     // bounds checks.

@@ -15,7 +15,7 @@ use glam::Vec4;
 use super::super::aabb::ROBUST;
 #[cfg(target_arch = "x86_64")]
 use super::Avx2;
-use super::wide::{Frustum, Kernel, Slots, inv4, near_planes};
+use super::wide::{Frustum, Kernel, Slots, in_place, inv4, near_planes};
 use super::{
     Aabb, Bvh, Closest, Distance, Four, Hit, Leaf, Nodes, Pre4, Ray, Slabs4, Slot, push_sorted,
 };
@@ -296,6 +296,7 @@ impl Bvh {
         mut leaf: impl FnMut(usize, &Leaf, &mut f32),
     ) -> u32 {
         let frustum = kernel.frustum(&p.frustum);
+        let frustum = in_place(&frustum);
         // As in `walk`: more entries would mean a broken tree.
         let limit = (K::Node::N - 1) * self.depth + 4;
         // Four lanes at a time (no segment end is NaN).
@@ -313,7 +314,7 @@ impl Bvh {
             steps += 1;
             if e.count == 0 {
                 let n = &nodes[e.child as usize];
-                let (mut mask, near) = kernel.hit_frustum(n, &frustum, t_min, far);
+                let (mut mask, near) = kernel.hit_frustum(n, frustum, t_min, far);
                 let base = stack.len();
                 if base > limit {
                     break;

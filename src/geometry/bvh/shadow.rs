@@ -37,7 +37,7 @@ use super::super::blocks::{self, Block};
 #[cfg(target_arch = "x86_64")]
 use super::Avx2;
 use super::packet::{PACKET, PacketEntry, STACK, Scratch};
-use super::wide::{Frustum, Kernel, Slots, inv, near_planes};
+use super::wide::{Frustum, Kernel, Slots, in_place, inv, near_planes};
 use super::{BlockKind, Bvh, Four, Leaf, Nodes, Occluder, Pre4, Ray, ShadowHit, Slabs4, Slot};
 
 const GROUPS: usize = PACKET / 4;
@@ -469,6 +469,7 @@ impl Bvh {
         mut leaf: impl FnMut(usize, &Leaf, &mut f32),
     ) {
         let (cone, reach) = (kernel.frustum(&p.cone), p.reach);
+        let cone = in_place(&cone);
         let limit = (K::Node::N - 1) * self.depth + 4;
         let mut live = t_max
             .iter()
@@ -479,7 +480,7 @@ impl Bvh {
         while let Some(PacketEntry { child, count, node, slot, .. }) = stack.pop() {
             if count == 0 {
                 let n = &nodes[child as usize];
-                let (mut mask, _) = kernel.hit_frustum(n, &cone, 0.0, reach);
+                let (mut mask, _) = kernel.hit_frustum(n, cone, 0.0, reach);
                 if stack.len() > limit {
                     break;
                 }

@@ -42,6 +42,25 @@ pub(super) trait Slots: Copy {
     }
 }
 
+/// A walk's ray constants (`Kernel::slabs`, `Kernel::frustum`), kept in
+/// their own place in memory for the whole walk, at their type's
+/// alignment (32 bytes for the 256-bit ones), and read from there after
+/// each leaf. Held in registers instead, they are saved around every
+/// call of the leaf test (which may use every vector register) in stack
+/// slots that LLVM aligns to 16 bytes only, without realigning the
+/// frame: where the callers' frames leave the stack at 16 modulo 32,
+/// every 256-bit save and reload straddles a 32-byte boundary, and half
+/// of them a cache line. The tree-s8 render, one thread, spent 40 % of
+/// its shadow walks at that one stall: 93 -> 75 ms; balls-s3 163 ->
+/// 152 ms (README, "The walks' ray constants in place"). The reference
+/// goes through `black_box` so the compiler keeps the value where it is
+/// (the frame is realigned for it) and does not copy it into registers
+/// and spill slots.
+#[inline(always)]
+pub(super) fn in_place<T>(constants: &T) -> &T {
+    std::hint::black_box(constants)
+}
+
 /// A slab test over one kind of node: `hit` gives a bit mask of the
 /// children the segment `(t_min, t_max)` enters, and their entry distances.
 pub(super) trait Kernel: Copy {
