@@ -792,7 +792,7 @@ impl Bvh {
     }
 
     /// `pair_closest` for a leaf's two blocks of spheres
-    /// (`Avx2::spheres2`). (One function taking the kind, as `pair_any`,
+    /// (`Avx2::spheres2`). (One function taking the kind, as `first_blocking`,
     /// made the dragon's re-render 0.8 % slower.)
     #[inline(always)]
     fn pair_spheres_closest(
@@ -834,26 +834,27 @@ impl Bvh {
             if l >= 4 && t[l] >= *limit.get_or_insert(*t_max) {
                 continue;
             }
-            let (b, lane) = if l < 4 { (b0, l) } else { (b1, l - 4) };
+            let (b, lane) = pair_lane([b0, b1], l);
             let hit = Hit { t: t[l], prim: self.prim(b, lane), uv: uv(l), sub: 0 };
             c.consider(&self.recs, hit, t_max);
         }
     }
 
-    /// `block_hits` of a leaf's two blocks of `kind` (triangles or
-    /// spheres) at once, 8 lanes wide, for a shadow ray: calls `each` on
-    /// the hits in the order the blocks' own tests give them, and gives
-    /// the block of the hit for which it returned true (`Some(None)`:
-    /// none did). `None` where it is not done (as `pair_closest`).
+    /// The first of `blocks` (all of `kind`: triangles or spheres) with a
+    /// hit for which `each` returns true, calling `each` on the hits in
+    /// the order the blocks' own tests (`block_hits`) give them: a leaf's
+    /// two blocks in one 8-lane pass where the CPU has AVX2
+    /// (`Avx2::triangles2`, `Avx2::spheres2`), else block by block. The
+    /// leaf step of both shadow walks, single rays and packets.
     #[inline(always)]
-    fn pair_any<'a>(
+    fn first_blocking<'a>(
         &self,
         (kind, blocks): (BlockKind, &'a [Block]),
         ray: &Ray,
         (t_min, t_max): (f32, f32),
         pre: &mut Option<Pre4>,
         each: &mut impl FnMut(ShadowHit) -> bool,
-    ) -> Option<Option<&'a Block>> {
+    ) -> Option<&'a Block> {
         #[cfg(target_arch = "x86_64")]
         if let ([b0, b1], Nodes::Eight(_, avx)) = (blocks, &self.nodes) {
             match kind {
@@ -864,17 +865,12 @@ impl Bvh {
                     while mask != 0 {
                         let l = mask.trailing_zeros() as usize & 7;
                         mask &= mask - 1;
-                        let (b, lane) = if l < 4 { (b0, l) } else { (b1, l - 4) };
-                        let rec = &self.recs[self.prim(b, lane) as usize];
-                        let uv = [h.u[l], h.v[l]];
-                        if each(ShadowHit {
-                            corners: rec.normals,
-                            uv,
-                            ..ShadowHit::new(rec.material, h.t[l])
-                        }) {
-                            return Some(Some(b));
+                        let (b, lane) = pair_lane([b0, b1], l);
+                        if each(self.triangle_crossing(b, lane, h.t[l], [h.u[l], h.v[l]])) {
+                            return Some(b);
                         }
                     }
+                    return None;
                 }
                 BlockKind::Spheres => {
                     let (mask, t) = avx.spheres2([b0, b1], ray, t_min, t_max);
@@ -882,16 +878,23 @@ impl Bvh {
                         let first = Vec4::from_slice(&t[4 * k..4 * k + 4]);
                         let again = |l, t| b.sphere(l, ray, t, t_max);
                         if self.lane_crossings(b, (mask >> (4 * k) & 15, first), each, again) {
-                            return Some(Some(b));
+                            return Some(b);
                         }
                     }
+                    return None;
                 }
-                BlockKind::Cones => return None,
+                BlockKind::Cones => {}
             }
-            return Some(None);
         }
-        let _ = (kind, blocks, ray, t_min, t_max, pre, each);
-        None
+        blocks.iter().find(|b| self.block_hits(b, kind, ray, (t_min, t_max), pre, each))
+    }
+
+    /// What a shadow ray's crossing of the triangle in `lane` of block `b`
+    /// at `t` (vertex weights `uv`) passes to `pass`.
+    #[inline(always)]
+    fn triangle_crossing(&self, b: &Block, lane: usize, t: f32, uv: [f32; 2]) -> ShadowHit {
+        let rec = &self.recs[self.prim(b, lane) as usize];
+        ShadowHit { corners: rec.normals, uv, ..ShadowHit::new(rec.material, t) }
     }
 
     /// The cone and object blocks of `leaf_closest` (out of line: the
@@ -1074,19 +1077,10 @@ impl Bvh {
                     through == Vec3::ZERO
                 };
                 let seg = (t_min, *t_max);
-                match self.pair_any((kind, blocks), ray, seg, &mut pre, &mut each) {
-                    Some(Some(b)) => {
-                        *last = Occluder::of(self, b, kind);
-                        return true;
-                    }
-                    Some(None) => continue,
-                    None => {}
-                }
-                for b in blocks {
-                    if self.block_hits(b, kind, ray, seg, &mut pre, &mut each) {
-                        *last = Occluder::of(self, b, kind);
-                        return true;
-                    }
+                if let Some(b) = self.first_blocking((kind, blocks), ray, seg, &mut pre, &mut each)
+                {
+                    *last = Occluder::of(self, b, kind);
+                    return true;
                 }
             }
             if leaf.cones != 0 {
@@ -1130,8 +1124,7 @@ impl Bvh {
             BlockKind::Triangles => {
                 let pre = pre.get_or_insert_with(|| Pre4::new(ray, &RayPre::new(ray.dir)));
                 b.each_triangle_hit::<false>(pre, t_min, t_max, |l, t, uv| {
-                    let rec = &self.recs[self.prim(b, l) as usize];
-                    each(ShadowHit { corners: rec.normals, uv, ..ShadowHit::new(rec.material, t) })
+                    each(self.triangle_crossing(b, l, t, uv))
                 })
             }
             BlockKind::Spheres => {
@@ -1383,6 +1376,13 @@ impl Distance for Entry {
     fn t(&self) -> f32 {
         self.t
     }
+}
+
+/// Which block, and which lane of it, lane `l` of a two-block pass is
+/// (0-3: block 0's, 4-7: block 1's).
+#[inline(always)]
+fn pair_lane([b0, b1]: [&Block; 2], l: usize) -> (&Block, usize) {
+    if l < 4 { (b0, l) } else { (b1, l - 4) }
 }
 
 /// Pushes `e` onto the stack, keeping the entries from `base` on sorted

@@ -420,15 +420,8 @@ impl Bvh {
         let seg = (0.0, t_max);
         let kinds = [(BlockKind::Triangles, leaf.tris), (BlockKind::Spheres, leaf.spheres)];
         for (kind, blocks) in kinds {
-            match self.pair_any((kind, blocks), ray, seg, pre, each) {
-                Some(Some(b)) => return Some(Some((b, kind))),
-                Some(None) => continue,
-                None => {}
-            }
-            for b in blocks {
-                if self.block_hits(b, kind, ray, seg, pre, each) {
-                    return Some(Some((b, kind)));
-                }
+            if let Some(b) = self.first_blocking((kind, blocks), ray, seg, pre, each) {
+                return Some(Some((b, kind)));
             }
         }
         if leaf.cones != 0

@@ -561,7 +561,7 @@ mod avx {
                     }
                     let c = x.sub(dot(fx, fy, fz, fx, fy, fz), r2);
                     // `Vec4::signum`: ±1 by the sign bit, NaN kept.
-                    let one = x.or(x.and(bb, x.splat(-1.0)), x.splat(1.0));
+                    let one = x.or(x.and(bb, minus), x.splat(1.0));
                     let sign = x.select(x.ne(bb, bb), bb, one);
                     let q = x.add(bb, x.mul(sign, self.0.avx._mm256_sqrt_ps(disc)));
                     let (t0, t1) = (x.div(c, q), x.div(q, a));
