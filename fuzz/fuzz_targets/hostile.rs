@@ -67,7 +67,7 @@ fuzz_target!(|data: &[u8]| {
         std::fs::create_dir_all(&dir).unwrap();
         std::env::set_current_dir(&dir).unwrap();
         // File commands stay inside the scratch directory (see script.rs).
-        rayshell::shell::safe::confine(&dir);
+        rayshell::shell::safe::confine(&dir).expect("the fence goes up");
     });
     let prelude = PRELUDES[(head as usize + rest.len()) % PRELUDES.len()];
     let src = format!(

@@ -15,7 +15,7 @@ fuzz_target!(|data: &[u8]| {
         std::env::set_current_dir(&dir).unwrap();
         // Scripts may `open`, `file delete` and `cd`: fence every file
         // access into the scratch directory (`--safe`'s machinery).
-        rayshell::shell::safe::confine(&dir);
+        rayshell::shell::safe::confine(&dir).expect("the fence goes up");
     });
     let src = String::from_utf8_lossy(data).into_owned();
     // On the interpreter's own big stack, as in the program: `catch` and

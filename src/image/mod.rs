@@ -411,6 +411,24 @@ pub struct Rgb8 {
     pub encoding: Option<Encoding>,
 }
 
+/// The most pixels a picture read from a file may have: 2^28, 16,384
+/// squared (a header is only a claim: a 69-byte PNG can say a million by
+/// a million).
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+/// Checks a picture's size, as its header gives it, before any buffer is
+/// made for it: at most `MAX_PIXELS`, and `bytes_per_pixel` for each of
+/// them within the memory budget.
+pub fn check_size(width: u32, height: u32, bytes_per_pixel: usize) -> Result<(), String> {
+    let n = width as u64 * height as u64;
+    if n > MAX_PIXELS {
+        return Err(format!(
+            "{width}x{height} is more than the {MAX_PIXELS} pixels a picture read from a file may have"
+        ));
+    }
+    crate::mem::reserve_n(n as usize, bytes_per_pixel).map_err(|e| e.to_string())
+}
+
 /// Reads a PPM (P6, maxval 255) or an 8-bit RGB PNG, as written here.
 pub fn read_rgb8(data: &[u8]) -> Result<Rgb8, String> {
     if data.starts_with(b"P6") {
@@ -434,6 +452,7 @@ pub fn read_rgb8(data: &[u8]) -> Result<Rgb8, String> {
         .find(|t| t.keyword == PLACEMENT_KEY)
         .and_then(|t| Placement::parse(&t.text));
     let (width, height) = (reader.info().width, reader.info().height);
+    check_size(width, height, 3)?;
     let encoding = match (reader.info().srgb, reader.info().gama_chunk) {
         (Some(_), _) => Some(Encoding::Srgb),
         (None, Some(g)) if g == png::ScaledFloat::new(1.0) => Some(Encoding::Linear),
@@ -454,6 +473,7 @@ pub fn read_rgb8(data: &[u8]) -> Result<Rgb8, String> {
 /// PPM is linear (the pictures this program writes are).
 pub fn read_texture(data: &[u8]) -> Result<(u32, u32, Vec<glam::Vec3>), String> {
     if data.starts_with(b"PF\n") {
+        // Its body must hold every pixel: no claim is believed unread.
         return read_pfm(data).ok_or_else(|| "not a readable RGB PFM".into());
     }
     if data.starts_with(b"#?") {
@@ -461,6 +481,7 @@ pub fn read_texture(data: &[u8]) -> Result<(u32, u32, Vec<glam::Vec3>), String> 
     }
     if data.starts_with(b"P6") {
         let (w, h, rgb) = read_ppm(data).ok_or("not a P6 PPM with maxval 255")?;
+        check_size(w, h, 12)?;
         let px =
             rgb.chunks(3).map(|c| glam::Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) / 255.0);
         return Ok((w, h, px.collect()));
@@ -470,6 +491,8 @@ pub fn read_texture(data: &[u8]) -> Result<(u32, u32, Vec<glam::Vec3>), String> 
     let mut reader = decoder.read_info().map_err(|e| format!("not a PNG or PPM: {e}"))?;
     let linear = reader.info().srgb.is_none()
         && reader.info().gama_chunk.is_some_and(|g| g == png::ScaledFloat::new(1.0));
+    // The decoded bytes (up to 4 a pixel) and the linear values (12).
+    check_size(reader.info().width, reader.info().height, 4 + 12)?;
     let mut buf = vec![0; reader.output_buffer_size().ok_or("PNG too large")?];
     let frame = reader.next_frame(&mut buf).map_err(|e| format!("bad PNG: {e}"))?;
     let channels = match frame.color_type {
@@ -530,7 +553,7 @@ pub fn read_ppm(data: &[u8]) -> Option<(u32, u32, Vec<u8>)> {
     }
     let (w, h): (u32, u32) = (fields[1].parse().ok()?, fields[2].parse().ok()?);
     let body = data.get(i + 1..)?;
-    let n = w as usize * h as usize * 3;
+    let n = (w as usize).checked_mul(h as usize)?.checked_mul(3)?;
     if body.len() < n {
         return None;
     }

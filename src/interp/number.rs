@@ -106,7 +106,7 @@ fn trim_tcl(s: &str) -> &str {
 
 /// An integer's parts: its sign, radix and digits (checked to be digits
 /// of that radix), in any Tcl syntax (surrounding white space allowed).
-fn int_parts(s: &str) -> Option<(bool, u32, &str)> {
+pub(crate) fn int_parts(s: &str) -> Option<(bool, u32, &str)> {
     let t = trim_tcl(s);
     let (neg, body) = match t.as_bytes().first()? {
         b'-' => (true, &t[1..]),
@@ -132,6 +132,44 @@ fn int_parts(s: &str) -> Option<(bool, u32, &str)> {
         return None;
     }
     Some((neg, radix, digits))
+}
+
+/// The length in characters of the longest prefix of `s` that is an
+/// integer in Tcl's syntax (what `int_parts` takes), in one pass: where
+/// `string is integer -failindex` puts the failure. 0 when none is.
+pub fn integer_prefix(s: &str) -> usize {
+    #[derive(Clone, Copy, PartialEq)]
+    enum St {
+        Lead,
+        Sign,
+        Zero,
+        Mark(u32),
+        Digits(u32),
+        Trail,
+    }
+    let space = |c: char| matches!(c, ' ' | '\t' | '\n' | '\r' | '\x0b' | '\x0c');
+    let mut st = St::Lead;
+    let mut best = 0;
+    for (k, c) in s.chars().enumerate() {
+        st = match (st, c) {
+            (St::Lead, c) if space(c) => St::Lead,
+            (St::Lead, '+' | '-') => St::Sign,
+            (St::Lead | St::Sign, '0') => St::Zero,
+            (St::Lead | St::Sign, '1'..='9') => St::Digits(10),
+            (St::Zero, 'x' | 'X') => St::Mark(16),
+            (St::Zero, 'o' | 'O') => St::Mark(8),
+            (St::Zero, 'b' | 'B') => St::Mark(2),
+            // A leading zero makes the rest octal: 012 is ten, 08 nothing.
+            (St::Zero, c) if c.is_digit(8) => St::Digits(8),
+            (St::Mark(r) | St::Digits(r), c) if c.is_digit(r) => St::Digits(r),
+            (St::Zero | St::Digits(_) | St::Trail, c) if space(c) => St::Trail,
+            _ => break,
+        };
+        if matches!(st, St::Zero | St::Digits(_) | St::Trail) {
+            best = k + 1;
+        }
+    }
+    best
 }
 
 /// Parses a 64-bit integer in any Tcl syntax (surrounding white space allowed).

@@ -267,7 +267,9 @@ fn render_bands(
             job,
             out,
             pace,
-            |x, y, p: &mut Pixel, until, st| p.advance(scene, &table, (x, y), until, st),
+            |x, y, p: &mut Pixel, until, st| {
+                p.advance(scene, &table, (x, y), until, st, &|| job.cancelled())
+            },
         )?
     } else {
         let frame = sample::frame_key(sampling);
@@ -413,7 +415,10 @@ struct Pixel {
 
 impl Pixel {
     /// Traces camera rays until the pixel has `until` of them or is
-    /// finished; returns its value so far and whether it is finished.
+    /// finished; returns its value so far and whether it is finished. A
+    /// cancelled job stops it between packets of camera rays (a pixel of
+    /// 65,536 samples is minutes of work; a packet, milliseconds at most);
+    /// its value is then thrown away with the rest of the picture.
     fn advance(
         &mut self,
         scene: &Scene,
@@ -421,6 +426,7 @@ impl Pixel {
         (x, y): (u32, u32),
         until: u32,
         st: &mut RayStats,
+        cancelled: &dyn Fn() -> bool,
     ) -> (Vec3, bool) {
         let (cam, sampling) = (&scene.camera, &scene.sampling);
         let [t0, t1] = sampling.shutter;
@@ -434,6 +440,9 @@ impl Pixel {
         loop {
             if self.acc.count >= until {
                 return (self.acc.value(), false);
+            }
+            if cancelled() {
+                return (self.acc.value(), true);
             }
             let (s, n) = (self.s, self.n);
             let key = if self.batch == 0 { first } else { sample::mix(first ^ self.batch) };

@@ -86,17 +86,29 @@ pub struct Cli {
     /// memory, and at most half of what `ulimit -v` leaves].
     #[arg(long, value_name = "SIZE", value_parser = super::budget::parse_size)]
     pub max_memory: Option<u64>,
-    /// Run an untrusted scene: no file writes, deletes or renames, no `cd`;
-    /// reads only under the scene's directory and --allow-read DIRs;
-    /// `render` writes only inside the output file's directory.
+    /// Run an untrusted scene (docs/safe.md): reads only beneath the
+    /// scene's directory and --allow-read DIRs; `render` writes only the
+    /// output, or new pictures beside it, never through a link; no other
+    /// writes, no `cd`, no programs, no environment.
     #[arg(long)]
     pub safe: bool,
+    /// End the run after SECONDS of wall-clock time, as Ctrl-C would, but
+    /// with status 124 (as timeout(1)): for untrusted scenes on a farm.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub time_limit: Option<f64>,
     /// With --safe, a directory the scene may also read (repeatable).
     #[arg(long, value_name = "DIR", requires = "safe")]
     pub allow_read: Vec<PathBuf>,
     /// Arguments for the script, after `--` (`$argv`, `$argc`).
     #[arg(last = true)]
     pub args: Vec<String>,
+}
+
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x > 0.0 && x < 1e9 => Ok(x),
+        _ => Err(format!("expected a number of seconds above 0, got \"{s}\"")),
+    }
 }
 
 /// Parses `std::env::args`; on error or `--help` prints and returns the exit code.

@@ -5,8 +5,9 @@
 /// The share of physical memory the budget takes by default.
 const RAM_SHARE: f64 = 0.75;
 /// Address space that is not heap: the interpreter's stack, thread stacks,
-/// the allocator's per-thread arenas, the program itself.
-const NOT_HEAP: u64 = super::INTERP_STACK_BYTES as u64 + (512 << 20);
+/// the allocators' reserves (small under a limit: `fit_address_space`),
+/// the program itself.
+const NOT_HEAP: u64 = super::INTERP_STACK_BYTES as u64 + (384 << 20);
 
 /// Parses a size: bytes, or a number with K, M, G or T (powers of 1024,
 /// optionally followed by "B" or "iB"), or a percentage of physical memory.
@@ -54,11 +55,51 @@ pub fn default_budget() -> Option<u64> {
     }
 }
 
-/// Sets the budget from `--max-memory` or the default.
-pub fn apply(max_memory: Option<u64>) {
-    if let Some(b) = max_memory.or_else(default_budget) {
+/// The least heap a run needs: below it, even starting is not worth it.
+const MIN_HEAP: u64 = 64 << 20;
+
+/// Under an address-space limit (`ulimit -v`), address space reserved and
+/// never used counts as much as memory: mimalloc reserves 1 GiB arenas,
+/// and glibc's malloc 64 MiB per thread (for the C code that calls it).
+/// Both read their settings from the environment as the process starts,
+/// before `main`, so the process runs itself again with small reserves
+/// (the same pid, arguments and streams). Returns only when no such step
+/// is needed, or it failed.
+pub fn fit_address_space() {
+    const VAR: &str = "MIMALLOC_ARENA_RESERVE";
+    if address_space_limit().is_none() || std::env::var_os(VAR).is_some() {
+        return;
+    }
+    let Ok(exe) = std::env::current_exe() else { return };
+    use std::os::unix::process::CommandExt;
+    let args: Vec<_> = std::env::args_os().skip(1).collect();
+    // On success this never returns; on failure, go on as we are.
+    let _ = std::process::Command::new(exe)
+        .args(args)
+        .env(VAR, "16MiB")
+        .env("MALLOC_ARENA_MAX", "1")
+        .exec();
+}
+
+/// Sets the budget from `--max-memory` or the default; an address-space
+/// limit too small to run in at all is an error (a usage error: the same
+/// again fails the same way), said before anything is tried.
+pub fn apply(max_memory: Option<u64>) -> Result<(), String> {
+    if let Some(limit) = address_space_limit() {
+        let need = NOT_HEAP + 2 * MIN_HEAP;
+        if limit < need {
+            return Err(format!(
+                "an address-space limit (ulimit -v) of {} is too small: raytrace needs at least {}",
+                crate::mem::human(limit as usize),
+                crate::mem::human(need as usize)
+            ));
+        }
+    }
+    // The default never goes below MIN_HEAP; a budget asked for is kept.
+    if let Some(b) = max_memory.or_else(|| default_budget().map(|b| b.max(MIN_HEAP))) {
         crate::mem::set_budget(usize::try_from(b).unwrap_or(usize::MAX));
     }
+    Ok(())
 }
 
 /// MemTotal from /proc/meminfo (Linux), in bytes.

@@ -773,7 +773,10 @@ fn render_command(
         // (exit 1: the same again fails the same way); a full disk or a
         // failing device may pass on a retry (exit 74).
         match err.kind() {
-            std::io::ErrorKind::NotFound | std::io::ErrorKind::PermissionDenied => e,
+            std::io::ErrorKind::NotFound
+            | std::io::ErrorKind::PermissionDenied
+            | std::io::ErrorKind::IsADirectory
+            | std::io::ErrorKind::InvalidFilename => e,
             _ => e.with_error_code(super::IO_ERROR_CODE),
         }
     };
@@ -1046,10 +1049,7 @@ fn show_command(
     }
     let (rgb, w, h) = match file {
         Some(path) => {
-            super::safe::check_read(&path)?;
-            let bytes = std::fs::read(&path).map_err(|e| {
-                Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
-            })?;
+            let bytes = super::read_scene_file(&path)?;
             let img = crate::image::read_rgb8(&bytes)
                 .map_err(|e| Exception::error(format!("\"{path}\": {e}")))?;
             // A PNG that says its values are linear is shown as sRGB.

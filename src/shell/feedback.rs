@@ -29,22 +29,60 @@ static TEMPS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 pub static STDOUT: LazyLock<Mutex<std::io::BufWriter<std::io::Stdout>>> =
     LazyLock::new(|| Mutex::new(std::io::BufWriter::with_capacity(1 << 16, std::io::stdout())));
 
+/// Set when `--time-limit` ran out (then `INTERRUPTED` is set too): the
+/// run ends with `EXIT_TIMED_OUT`.
+pub static TIMED_OUT: AtomicBool = AtomicBool::new(false);
+
+/// How long a run has, after the first Ctrl-C (or its time limit), to
+/// stop by itself, with its messages at their lines, before the process
+/// ends at once (`exit_now`): whatever it was waiting on (a FIFO with no
+/// writer, `gets` on an endless line, a program run by `exec`) cannot
+/// hold it longer. Not in the REPL, which must keep its session.
+const GRACE: Duration = Duration::from_millis(350);
+
 /// Routes Ctrl-C (SIGINT, SIGTERM, SIGHUP) to `INTERRUPTED`; a second one
 /// while the first is still pending (outside the REPL) ends the process at
-/// once, cleanly (`exit_now`). Writes past `ulimit -f` fail with an error
+/// once, cleanly (`exit_now`), and so does the first when the run has not
+/// stopped within `GRACE`. Writes past `ulimit -f` fail with an error
 /// instead of SIGXFSZ killing the process.
 pub fn catch_interrupts() {
     let _ = ctrlc::set_handler(|| {
-        if INTERRUPTED.swap(true, Ordering::SeqCst) && !IN_REPL.load(Ordering::SeqCst) {
-            exit_now();
+        if INTERRUPTED.swap(true, Ordering::SeqCst) {
+            if !IN_REPL.load(Ordering::SeqCst) {
+                exit_now();
+            }
+            return;
         }
+        watchdog();
     });
     let ignored = std::sync::Arc::new(AtomicBool::new(false));
     let _ = signal_hook::flag::register(signal_hook::consts::SIGXFSZ, ignored);
 }
 
-/// Ends the process as interrupted (status 130): temporary files removed,
-/// buffered output flushed.
+/// Ends the process after `GRACE` unless it is in the REPL by then.
+fn watchdog() {
+    let _ = std::thread::Builder::new().name("watchdog".into()).spawn(|| {
+        std::thread::sleep(GRACE);
+        if !IN_REPL.load(Ordering::SeqCst) && INTERRUPTED.load(Ordering::SeqCst) {
+            exit_now();
+        }
+    });
+}
+
+/// `--time-limit`: after `seconds` of wall-clock time the run is ended
+/// as by Ctrl-C, with status 124.
+pub fn limit_time(seconds: f64) {
+    let _ = std::thread::Builder::new().name("time-limit".into()).spawn(move || {
+        std::thread::sleep(Duration::from_secs_f64(seconds));
+        TIMED_OUT.store(true, Ordering::SeqCst);
+        if !INTERRUPTED.swap(true, Ordering::SeqCst) {
+            watchdog();
+        }
+    });
+}
+
+/// Ends the process as interrupted (status 130, or 124 past the time
+/// limit): temporary files removed, buffered output flushed.
 pub fn exit_now() -> ! {
     for p in TEMPS.lock().unwrap_or_else(|e| e.into_inner()).drain(..) {
         let _ = std::fs::remove_file(p);
@@ -52,7 +90,13 @@ pub fn exit_now() -> ! {
     if let Ok(mut out) = STDOUT.try_lock() {
         let _ = out.flush();
     }
-    std::process::exit(super::EXIT_INTERRUPTED)
+    let (code, why) = if TIMED_OUT.load(Ordering::SeqCst) {
+        (super::EXIT_TIMED_OUT, "time limit reached")
+    } else {
+        (super::EXIT_INTERRUPTED, "interrupted")
+    };
+    let _ = std::io::stderr().write_all(format!("\nraytrace: {why}\n").as_bytes());
+    std::process::exit(code)
 }
 
 pub fn add_temp(p: &Path) {

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::feedback::FrameInfo;
-use super::{Cli, EXIT_INTERRUPTED, EXIT_IO, EXIT_SCRIPT, EXIT_USAGE};
+use super::{Cli, EXIT_IO, EXIT_SCRIPT, EXIT_USAGE};
 use crate::image::{Format, read_rgb8};
 use crate::interp::Value;
 
@@ -35,13 +35,17 @@ pub fn frame_name(pattern: &str, f: i64, width: usize) -> String {
         let digits = rest.bytes().take_while(|b| b.is_ascii_digit()).count();
         if rest[digits..].starts_with('d') {
             // As printf does: `%03d` pads to three digits, `%d` not at all.
-            let w = rest[..digits].parse::<usize>().unwrap_or(0);
+            // No name holds more than 255 bytes: wider is refused later.
+            let w = match digits {
+                0 => 0,
+                _ => rest[..digits].parse::<usize>().unwrap_or(256).min(256),
+            };
             return format!("{}{f:0w$}{}", &pattern[..start], &rest[digits + 1..]);
         }
     }
     if let Some(end) = pattern.rfind('#') {
         let start = pattern[..end].trim_end_matches('#').len();
-        let w = (end + 1 - start).max(width);
+        let w = (end + 1 - start).max(width).min(256);
         return format!("{}{f:0w$}{}", &pattern[..start], &pattern[end + 1..]);
     }
     let p = Path::new(pattern);
@@ -77,6 +81,14 @@ pub fn run_batch(cli: &Cli) -> i32 {
         say!("raytrace: frame file names must end in .ppm or .png, got \"{pattern}\"");
         return EXIT_USAGE;
     }
+    // A name that cannot be written is a usage error now, not a failed
+    // frame (which a farm would retry) after the script ran.
+    for f in [first, last] {
+        if let Err(msg) = super::check_output_name(Path::new(&frame_name(&pattern, f, width))) {
+            say!("raytrace: {msg}");
+            return EXIT_USAGE;
+        }
+    }
     let src = match super::read_text(&script_name) {
         Ok(s) => s,
         Err(e) => {
@@ -100,6 +112,7 @@ pub fn run_batch(cli: &Cli) -> i32 {
     fb.start_batch(frames.len());
     for (k, &f) in frames.iter().enumerate() {
         let out = frame_name(&pattern, f, width);
+        super::safe::name_output(std::path::Path::new(&out));
         fb.frame = Some(FrameInfo { frame: f, index: k + 1, count: frames.len() });
         if cli.skip_existing && Path::new(&out).exists() {
             fb.skipped(&out);
@@ -138,7 +151,7 @@ pub fn run_batch(cli: &Cli) -> i32 {
     }
     fb.end_batch(rendered, skipped, start.elapsed().as_secs_f64());
     if super::feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
-        return EXIT_INTERRUPTED;
+        return super::exit_code_of(&super::interrupted());
     }
     0
 }
@@ -162,6 +175,11 @@ pub fn merge(out: &Path, parts: &[PathBuf]) -> Result<(), (i32, String)> {
         let p = img.placement.ok_or_else(|| {
             fail(format!("\"{name}\" is not a cropped render (it has no rayshell-crop placement)"))
         })?;
+        if full.is_none() {
+            // The full size is the part's claim: checked before it is made.
+            crate::image::check_size(p.full_width, p.full_height, 4)
+                .map_err(|e| fail(format!("\"{name}\": {e}")))?;
+        }
         let (w, h, rgb, covered) = full.get_or_insert_with(|| {
             let n = p.full_width as usize * p.full_height as usize;
             (p.full_width, p.full_height, vec![0; n * 3], vec![false; n])
@@ -286,6 +304,9 @@ mod tests {
         assert_eq!(frame_name("dir/anim.png", 7, 4), "dir/anim-0007.png");
         assert_eq!(frame_name("f####.png", 12345, 5), "f12345.png");
         assert_eq!(frame_name("f####.png", -3, 4), "f-003.png");
+        // Wider than a name can be: capped (the name is refused later).
+        assert_eq!(frame_name("f%065536d.png", 7, 4).len(), 1 + 256 + 4);
+        assert_eq!(frame_name(&format!("f{}.png", "#".repeat(70_000)), 7, 4).len(), 1 + 256 + 4);
     }
 
     #[test]

@@ -58,6 +58,8 @@ pub const EXIT_USAGE: i32 = 2;
 pub const EXIT_INTERNAL: i32 = 70;
 pub const EXIT_IO: i32 = 74;
 pub const EXIT_INTERRUPTED: i32 = 130;
+/// `--time-limit` ran out (as timeout(1) says it).
+pub const EXIT_TIMED_OUT: i32 = 124;
 /// Standard output was closed by its reader: 128 + SIGPIPE, as a shell
 /// reports a tool that died of it.
 pub const EXIT_BROKEN_PIPE: i32 = 141;
@@ -163,9 +165,16 @@ pub fn read_text(path: &str) -> std::io::Result<String> {
 /// Reads a whole file, refusing one past the value cap or the memory
 /// budget (`/dev/zero` has no end) and stopping at Ctrl-C.
 fn read_bounded(path: &str) -> std::io::Result<Vec<u8>> {
+    let f = safe::open_read(path).map_err(|e| match e {
+        safe::ReadError::Io(e) => e,
+        refused => std::io::Error::other(refused.message(path)),
+    })?;
+    read_all(f)
+}
+
+fn read_all(mut f: std::fs::File) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
     const CHUNK: usize = 1 << 20;
-    let mut f = std::fs::File::open(path)?;
     let mut bytes = Vec::new();
     loop {
         if bytes.len() > crate::interp::MAX_VALUE_LEN {
@@ -182,6 +191,24 @@ fn read_bounded(path: &str) -> std::io::Result<Vec<u8>> {
             return Ok(bytes);
         }
     }
+}
+
+/// A whole file a scene command reads (an image, the sky), opened through
+/// the `--safe` gate, within the memory budget, stopping at Ctrl-C: the
+/// errors are Tcl's (`couldn't read "F": why`).
+pub fn read_scene_file(path: &str) -> Result<Vec<u8>, Exception> {
+    let p = path.to_string();
+    feedback::blocking(path, move || {
+        safe::open_read(&p).and_then(|f| read_all(f).map_err(safe::ReadError::Io))
+    })
+    .map_err(|_| interrupted())?
+    .map_err(|e| {
+        if feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) {
+            interrupted()
+        } else {
+            e.into_exception(path)
+        }
+    })
 }
 
 /// An interpreter with the rayshell commands, and the scene they change.
@@ -214,7 +241,15 @@ pub fn new_interp(host: Box<dyn Host>) -> Interp {
 /// `tcl_platform(user)` and `(osVersion)`, `info nameofexecutable`, and
 /// `auto_path` (`$TCLLIBPATH`, then where Debian keeps Tcl packages, so
 /// `package require` finds script packages as tclsh does).
+///
+/// Under `--safe` a scene sees none of it: the environment holds tokens,
+/// paths and names that are the user's, not the scene's (`docs/safe.md`).
 fn set_environment(interp: &mut Interp) {
+    if safe::active() {
+        let _ = interp.eval(&Value::from("array set ::env {}"));
+        let _ = interp.set_var("tcl_platform(user)", Value::from(""));
+        return;
+    }
     for (k, v) in std::env::vars_os() {
         if let (Some(k), Some(v)) = (k.to_str(), v.to_str()) {
             let _ = interp.set_var(&format!("env({k})"), Value::from(v));
@@ -286,9 +321,15 @@ pub fn help_text(interp: &Interp, name: Option<&str>) -> Result<String, Exceptio
 pub fn report_error(interp: &mut Interp, e: &Exception) {
     interp.flush();
     let info = e.error_info();
-    let trace = info.strip_prefix(e.message()).unwrap_or(info);
     let mut text = e.located_message();
-    text.push_str(trace);
+    match info.strip_prefix(e.message()) {
+        Some(trace) => text.push_str(trace),
+        // An -errorinfo of the script's own, not led by the message.
+        None => {
+            text.push('\n');
+            text.push_str(info);
+        }
+    }
     text.push('\n');
     let _ = interp.write_stderr(&text);
 }
@@ -328,6 +369,17 @@ pub fn finish(interp: &mut Interp, r: Result<Value, Exception>) -> i32 {
         r => r,
     };
     let code = match r {
+        // A Ctrl-C that came during the last command, which finished
+        // without looking: the run did not end as asked, so it is not 0.
+        Ok(_) if feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) => {
+            let why = if feedback::TIMED_OUT.load(std::sync::atomic::Ordering::Relaxed) {
+                "time limit reached (--time-limit)"
+            } else {
+                "interrupted"
+            };
+            let _ = interp.write_stderr(&format!("raytrace: {why}\n"));
+            exit_code_of(&interrupted())
+        }
         Ok(_) => 0,
         Err(e) => match e.code {
             // As a process's status: the low byte (`exit -1` is 255).
@@ -351,6 +403,9 @@ pub fn finish(interp: &mut Interp, r: Result<Value, Exception>) -> i32 {
             Code::Error if e.error_code().as_str().starts_with("POSIX EPIPE") => EXIT_BROKEN_PIPE,
             Code::Error => {
                 report_error(interp, &e);
+                if feedback::TIMED_OUT.load(std::sync::atomic::Ordering::Relaxed) {
+                    let _ = interp.write_stderr("raytrace: time limit reached (--time-limit)\n");
+                }
                 exit_code_of(&e)
             }
         },
@@ -363,6 +418,7 @@ pub fn finish(interp: &mut Interp, r: Result<Value, Exception>) -> i32 {
 pub fn exit_code_of(e: &Exception) -> i32 {
     match e.error_code().as_str() {
         c if c.starts_with("POSIX EPIPE") => EXIT_BROKEN_PIPE,
+        _ if feedback::TIMED_OUT.load(std::sync::atomic::Ordering::Relaxed) => EXIT_TIMED_OUT,
         INTERRUPT_CODE => EXIT_INTERRUPTED,
         // Whatever failed on the way out of an interrupt (a read, a write).
         _ if feedback::INTERRUPTED.load(std::sync::atomic::Ordering::Relaxed) => EXIT_INTERRUPTED,
@@ -380,6 +436,7 @@ fn set_argv(interp: &mut Interp, argv0: &str, args: &[String]) {
 
 /// The program: parse arguments, then run a script, `-c`, stdin or the REPL.
 pub fn main() -> ExitCode {
+    budget::fit_address_space();
     let cli = match args::parse() {
         Ok(c) => c,
         Err(code) => return ExitCode::from(code),
@@ -390,8 +447,14 @@ pub fn main() -> ExitCode {
         say!("raytrace: cannot set up {n} threads: {e}");
         return ExitCode::from(2);
     }
-    budget::apply(cli.max_memory);
+    if let Err(msg) = budget::apply(cli.max_memory) {
+        say!("raytrace: {msg}");
+        return ExitCode::from(EXIT_USAGE as u8);
+    }
     feedback::catch_interrupts();
+    if let Some(t) = cli.time_limit {
+        feedback::limit_time(t);
+    }
     // The interpreter runs on a thread with a large stack (see above).
     let code = match on_big_stack(move || run(cli)) {
         Ok(code) => code,
@@ -431,9 +494,11 @@ fn new_session(cli: &Cli) -> Result<Session, String> {
     Ok(session)
 }
 
-/// What `--safe` lets a scene reach: reads under its own directory, the
-/// `--allow-read` ones and the output directory; images in the output
-/// directory (the output file's, else the current one); nothing else.
+/// What `--safe` lets a scene reach (`docs/safe.md`): reads beneath its
+/// own directory and the `--allow-read` ones (a scene from standard input
+/// or `-c` has no directory of its own); new pictures in the output
+/// directory (the output file's, else the current one), and the output
+/// file itself; nothing else.
 fn safe_policy(cli: &Cli) -> safe::Policy {
     let dir_of = |p: &std::path::Path| match p.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -445,12 +510,17 @@ fn safe_policy(cli: &Cli) -> safe::Policy {
     };
     let out_dir = output.map_or_else(|| std::path::PathBuf::from("."), |o| dir_of(o));
     let mut read: Vec<std::path::PathBuf> = cli.allow_read.clone();
-    match (&cli.command, &cli.script) {
-        (None, Some(s)) => read.push(dir_of(s)),
-        _ => read.push(std::path::PathBuf::from(".")),
+    if let (None, Some(s)) = (&cli.command, &cli.script)
+        && s.as_os_str() != "-"
+    {
+        read.push(dir_of(s));
     }
-    read.push(out_dir.clone());
-    safe::Policy { read, images: vec![out_dir], ..Default::default() }
+    safe::Policy {
+        read,
+        images: vec![out_dir],
+        outputs: output.into_iter().cloned().collect(),
+        ..Default::default()
+    }
 }
 
 fn run(cli: Cli) -> i32 {
@@ -467,8 +537,11 @@ fn run(cli: Cli) -> i32 {
     if let Some(paths) = &cli.movie {
         return done(frames::movie(&paths[0], &paths[1..], cli.fps));
     }
-    if cli.safe {
-        safe::install(safe_policy(&cli));
+    if cli.safe
+        && let Err(msg) = safe::install(safe_policy(&cli))
+    {
+        say!("raytrace: {msg}");
+        return EXIT_USAGE;
     }
     if cli.frames.is_some() {
         return frames::run_batch(&cli);
@@ -520,7 +593,7 @@ fn run(cli: Cli) -> i32 {
                 let p = path.clone();
                 let opened = match feedback::blocking(&path_str, move || std::fs::File::open(p)) {
                     Ok(r) => r,
-                    Err(_) => return EXIT_INTERRUPTED,
+                    Err(_) => return exit_code_of(&interrupted()),
                 };
                 let f = match opened {
                     Ok(f) => f,
@@ -574,15 +647,33 @@ fn run(cli: Cli) -> i32 {
     finish(&mut interp, r)
 }
 
-/// Checks an output file's name before any work: a known extension, and a
-/// directory that exists and takes new files.
-fn check_output(path: &std::path::Path) -> Result<(), String> {
+/// Checks an output file's name alone: a known extension, not a
+/// directory, a last name of at most 255 bytes (mistakes that no retry
+/// mends: usage errors, said before the script runs).
+pub(super) fn check_output_name(path: &std::path::Path) -> Result<(), String> {
     let name = path.to_string_lossy();
     if crate::image::Format::from_path(&name).is_none() {
         return Err(format!(
             "unknown image format for \"{name}\": the name must end in .ppm, .png or .pfm"
         ));
     }
+    if path.is_dir() {
+        return Err(format!("can't write \"{name}\": it is a directory"));
+    }
+    if path.file_name().is_some_and(|n| n.len() > 255) {
+        return Err(format!(
+            "can't write \"{}...\": a file name holds at most 255 bytes",
+            name.chars().take(40).collect::<String>()
+        ));
+    }
+    Ok(())
+}
+
+/// Checks an output file's name before any work: a known extension, and a
+/// directory that exists and takes new files.
+fn check_output(path: &std::path::Path) -> Result<(), String> {
+    check_output_name(path)?;
+    let name = path.to_string_lossy();
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => std::path::Path::new("."),
@@ -640,11 +731,23 @@ impl AtomicFile {
         let name = name.to_string_lossy();
         let pid = std::process::id();
         // The temporary name must fit in a name's 255 bytes too.
-        let tmp_name = format!(".{name}.{pid}.tmp");
-        let tmp_name =
-            if tmp_name.len() <= 255 { tmp_name } else { format!(".rayshell.{pid}.tmp") };
-        let tmp = dir.join(tmp_name);
-        let file = std::fs::File::create(&tmp)?;
+        // Created exclusively (`O_EXCL`): a file or link already at the
+        // name, left by a crash or planted, is never written through.
+        let (tmp, file) = {
+            let mut k = 0u32;
+            loop {
+                let tag = if k == 0 { pid.to_string() } else { format!("{pid}-{k}") };
+                let tmp_name = format!(".{name}.{tag}.tmp");
+                let tmp_name =
+                    if tmp_name.len() <= 255 { tmp_name } else { format!(".rayshell.{tag}.tmp") };
+                let tmp = dir.join(tmp_name);
+                match std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp) {
+                    Ok(f) => break (tmp, f),
+                    Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && k < 100 => k += 1,
+                    Err(e) => return Err(e),
+                }
+            }
+        };
         feedback::add_temp(&tmp);
         let file = std::io::BufWriter::new(feedback::Cancellable(file));
         let mut out = AtomicFile { tmp, path: p, file: Some(file) };

@@ -52,9 +52,14 @@ impl<R: BufRead> Words<R> {
             }
             self.buf.clear();
             self.pos = 0;
-            let read = self.reader.read_line(&mut self.buf);
+            // A line is at most MAX_LINE bytes: `/dev/zero` has no end.
+            let read =
+                std::io::Read::take(&mut self.reader, MAX_LINE as u64 + 1).read_line(&mut self.buf);
             match read.map_err(|e| format!("line {}: {e}", self.line + 1))? {
                 0 => return Ok(None),
+                n if n > MAX_LINE => {
+                    return Err(format!("line {}: longer than {MAX_LINE} bytes", self.line + 1));
+                }
                 _ => self.line += 1,
             }
             if let Some(hash) = self.buf.find('#') {
@@ -111,6 +116,9 @@ const VIEW: &[&str] = &["from", "at", "up", "angle", "hither", "resolution"];
 
 /// Reads NFF from `reader` into `b`; `name` names it in messages
 /// (`name:LINE: ...`).
+/// The longest line an NFF file may have (the SPD's are under 100 bytes).
+const MAX_LINE: usize = 1 << 20;
+
 pub fn load(b: &mut Builder, name: &str, reader: impl BufRead) -> Result<Counts, String> {
     let mut w = Words { reader, line: 0, buf: String::new(), pos: 0 };
     let mut counts = Counts::default();

@@ -36,8 +36,7 @@ pub fn load_with_tobj(path: &str) -> Result<MeshData, String> {
 /// The file at `path`, buffered, decompressed when its name ends in `.gz`.
 /// Streamed: a large file is never held in memory whole.
 fn open(path: &str) -> Result<Box<dyn BufRead>, String> {
-    let file = std::fs::File::open(path)
-        .map_err(|e| format!("couldn't read \"{path}\": {}", super::io_reason(&e)))?;
+    let file = super::safe::open_read(path).map_err(|e| e.message(path))?;
     if path.ends_with(".gz") {
         let gz = flate2::read::GzDecoder::new(std::io::BufReader::new(file));
         return Ok(Box::new(std::io::BufReader::with_capacity(CHUNK, gz)));

@@ -203,10 +203,10 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
         move |_, argv| {
             check_args(argv, 2, 2, "fileName")?;
             let path = argv[1].as_str().to_string();
-            super::safe::check_read(&path)?;
-            let f = std::fs::File::open(&path).map_err(|e| {
-                Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
-            })?;
+            let p = path.clone();
+            let f = super::feedback::blocking(&path, move || super::safe::open_read(&p))
+                .map_err(|_| super::interrupted())?
+                .map_err(|e| e.into_exception(&path))?;
             let mut b = edit(&s);
             let c = super::nff::load(&mut b, &path, std::io::BufReader::new(f))
                 .map_err(Exception::error)?;

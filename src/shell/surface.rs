@@ -45,10 +45,7 @@ fn image_texture(scene: &Shared, argv: &[Value]) -> Result<Texture, Exception> {
 
 /// Reads an image file into the scene's images: its number and itself.
 fn load_image(scene: &Shared, path: &str) -> Result<(u32, Arc<Image>), Exception> {
-    super::safe::check_read(path)?;
-    let data = std::fs::read(path).map_err(|e| {
-        Exception::error(format!("couldn't read \"{path}\": {}", super::io_reason(&e)))
-    })?;
+    let data = super::read_scene_file(path)?;
     let (w, h, px) =
         crate::image::read_texture(&data).map_err(|e| Exception::error(format!("{path}: {e}")))?;
     if w == 0 || h == 0 {
@@ -190,12 +187,7 @@ pub fn register(interp: &mut Interp, scene: &Shared) {
                         )));
                     }
                     let path = argv[1].as_str();
-                    let data = std::fs::read(path).map_err(|e| {
-                        Exception::error(format!(
-                            "couldn't read \"{path}\": {}",
-                            super::io_reason(&e)
-                        ))
-                    })?;
+                    let data = super::read_scene_file(path)?;
                     let (w, h, px) = crate::image::read_texture(&data)
                         .map_err(|e| Exception::error(format!("{path}: {e}")))?;
                     if w == 0 || h == 0 {

@@ -775,3 +775,70 @@ pub fn the_repl_keeps_its_session_past_the_memory_budget() {
         assert!(shown.contains(want), "{want}: {shown}");
     }
 }
+
+/// A PNG of `width` x `height` RGB pixels whose data is one row of zeros:
+/// a few dozen bytes whatever size its header claims.
+fn png_claiming(width: u32, height: u32) -> Vec<u8> {
+    use std::io::Write;
+    let chunk = |kind: &[u8], data: &[u8]| {
+        let mut crc = flate2::Crc::new();
+        crc.update(kind);
+        crc.update(data);
+        let mut c = (data.len() as u32).to_be_bytes().to_vec();
+        c.extend_from_slice(kind);
+        c.extend_from_slice(data);
+        c.extend_from_slice(&crc.sum().to_be_bytes());
+        c
+    };
+    let mut ihdr = width.to_be_bytes().to_vec();
+    ihdr.extend_from_slice(&height.to_be_bytes());
+    ihdr.extend_from_slice(&[8, 2, 0, 0, 0]);
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::best());
+    z.write_all(&vec![0u8; 1 + 3 * width.min(1 << 16) as usize]).unwrap();
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    png.extend(chunk(b"IHDR", &ihdr));
+    png.extend(chunk(b"IDAT", &z.finish().unwrap()));
+    png.extend(chunk(b"IEND", b""));
+    png
+}
+
+/// Issue "untrusted scenes", finding 8: a picture's header is checked
+/// against a size cap and the memory budget before any buffer is made, by
+/// every command that reads pictures and by `--merge` and `--movie`.
+pub fn picture_headers_are_checked_before_decoding() {
+    let dir = scratch("png-bomb");
+    let bomb = dir.join("bomb.png");
+    std::fs::write(&bomb, png_claiming(1_000_000, 1_000_000)).unwrap();
+    // 12,000 squared: under the pixel cap, over a 256 MB budget.
+    let big = dir.join("big.png");
+    std::fs::write(&big, png_claiming(12_000, 12_000)).unwrap();
+    assert!(std::fs::metadata(&bomb).unwrap().len() < 1000);
+    for file in [&bomb, &big] {
+        let f = file.to_string_lossy();
+        for cmd in [
+            format!("texture image {f} planar"),
+            format!("bump image {f} 1 planar"),
+            format!("displace image {f} 1"),
+            format!("environment {f}"),
+            format!("show {f}"),
+        ] {
+            let r = raytrace().args(["--max-memory", "256M", "-c", &cmd]).output().unwrap();
+            let err = text(&r.stderr);
+            assert_eq!(r.status.code(), Some(1), "{cmd}: {err}");
+            assert!(err.starts_with("-c:1: "), "{cmd}: {err}");
+            assert!(err.contains("pixels") || err.contains("memory"), "{cmd}: {err}");
+        }
+        for mode in ["--merge", "--movie"] {
+            let out = dir.join("out.png");
+            let r = raytrace()
+                .args(["--max-memory", "256M", mode])
+                .arg(&out)
+                .arg(file)
+                .output()
+                .unwrap();
+            assert_eq!(r.status.code(), Some(1), "{mode}: {}", text(&r.stderr));
+            assert!(!out.exists());
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,6 +1,8 @@
 //! The command line: options, stdin, -c, argv, help and version.
 
-use crate::util::{run, text};
+use std::process::Command;
+
+use crate::util::{raytrace, run, scratch, text};
 
 pub fn dash_c_and_stdin() {
     let out = run(&["-c", "puts [expr {6 * 7}]"], "");
@@ -545,5 +547,74 @@ pub fn the_repl_survives_bytes_that_are_not_utf8() {
     assert_eq!(status.code(), Some(5), "{shown}");
     assert!(shown.contains("that line was not UTF-8 text"), "{shown}");
     assert!(shown.contains("keep=42"), "{shown}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue "untrusted scenes", findings 10 and 14: an output name that can
+/// never be written (a directory, a name over 255 bytes, a frame pattern
+/// 65,536 digits wide) is a usage error before the script runs, not a
+/// panic or an I/O error worth a retry; inside a script such a `render`
+/// is a script error (1), not 74.
+pub fn unwritable_output_names_are_usage_errors() {
+    let dir = scratch("bad-names");
+    std::fs::create_dir(dir.join("d.png")).unwrap();
+    std::fs::write(dir.join("s.tsd"), "puts ran\n").unwrap();
+    let long = format!("{}.png", "x".repeat(300));
+    let cases: [&[&str]; 5] = [
+        &["s.tsd", "d.png"],
+        &["s.tsd", &long],
+        &["--frames", "1..2", "s.tsd", "f%065536d.png"],
+        &["--frames", "1..2", "s.tsd", "f%0300d.png"],
+        &["-c", "puts ran", &long],
+    ];
+    for args in cases {
+        let r = raytrace().args(args).current_dir(&dir).output().unwrap();
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {}", text(&r.stderr));
+        assert!(!text(&r.stdout).contains("ran"), "{args:?}: the script ran");
+        assert!(text(&r.stderr).starts_with("raytrace: can't write"), "{}", text(&r.stderr));
+    }
+    for name in ["d.png", long.as_str()] {
+        let script = format!("camera_resolution 4 4\nrender {name}\n");
+        let r = raytrace().args(["-c", &script]).current_dir(&dir).output().unwrap();
+        assert_eq!(r.status.code(), Some(1), "{name}: {}", text(&r.stderr));
+        assert!(text(&r.stderr).contains("-c:2: couldn't write"), "{}", text(&r.stderr));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue "untrusted scenes", finding 10: under any address-space limit
+/// (`ulimit -v`) the program either runs, with a budget that makes growth
+/// a located error, or says at once that the limit is too small: never a
+/// panic (101), an abort (134) or an internal error (70).
+pub fn any_address_space_limit_runs_or_says_why() {
+    let exe = env!("CARGO_BIN_EXE_raytrace");
+    let script = "puts hi; camera_resolution 64 64; sphere 0 0 -3 1; render x.ppm\n\
+                  set l {}; while 1 {lappend l [string repeat x 1000]}";
+    let dir = scratch("ulimit");
+    for mib in [256, 600, 900, 1024, 1200, 1600, 2048] {
+        let r = Command::new("bash")
+            .args([
+                "-c",
+                &format!("ulimit -v {}; exec \"$0\" -q -c \"$1\"", mib * 1024),
+                exe,
+                script,
+            ])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let err = text(&r.stderr);
+        match r.status.code() {
+            Some(2) => {
+                assert!(err.contains("ulimit -v") && err.contains("too small"), "{mib}: {err}")
+            }
+            Some(1) => {
+                assert_eq!(text(&r.stdout), "hi\n", "{mib} MiB");
+                assert!(err.contains("-c:2: not enough memory"), "{mib}: {err}");
+            }
+            c => panic!("ulimit -v of {mib} MiB: status {c:?}: {err}"),
+        }
+        // From 1 GiB on, the run goes as far as the budget.
+        assert_eq!(r.status.code() == Some(1), mib >= 1024, "{mib} MiB: {err}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -234,3 +234,75 @@ pub fn ctrl_c_during_a_png_encode() {
     assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue "untrusted scenes", finding 12: one SIGINT ends the run within
+/// half a second wherever it waits (a FIFO opened by Tcl's `open`, `gets`
+/// on input that never comes, a program run by `exec` that ignores it,
+/// expensive pixels), and a signal during the script's last command is
+/// not lost: never status 0.
+pub fn one_ctrl_c_ends_every_wait_within_half_a_second() {
+    if Command::new("mkfifo").arg("--version").output().is_err() {
+        crate::util::skip("mkfifo (coreutils) is not installed");
+    }
+    let dir = scratch("sigint-waits");
+    assert!(Command::new("mkfifo").arg(dir.join("pipe")).status().unwrap().success());
+    let cases: [(&str, &[&str]); 6] = [
+        ("open", &["-c", "puts hello; open pipe"]),
+        ("gets", &["-c", "puts hello; gets stdin"]),
+        ("exec", &["-c", "puts hello; exec sleep 30"]),
+        ("texture", &["-c", "puts hello; texture image pipe planar"]),
+        ("nff", &["-c", "puts hello; nff pipe"]),
+        (
+            "expensive pixels",
+            &[
+                "-c",
+                "puts hello; camera_resolution 2 2; samples 65536; sphere 0 0 -3 1
+                 area_light 1 1 1 0 3 0 1 0 0 0 0 1 32; render x.ppm",
+            ],
+        ),
+    ];
+    for (what, args) in cases {
+        let child = raytrace()
+            .args(args)
+            .current_dir(&dir)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(400));
+        let sent = Instant::now();
+        signal(&child, "-INT");
+        let out = wait_at_most(child, 10);
+        let took = sent.elapsed();
+        assert_eq!(out.status.code(), Some(130), "{what}: {}", text(&out.stderr));
+        assert_eq!(text(&out.stdout), "hello\n", "{what}: output before the wait is kept");
+        // Half a second, and the time a loaded machine takes to reap.
+        assert!(took < Duration::from_millis(900), "{what}: {took:?}");
+    }
+    assert_eq!(listing(&dir), ["pipe"], "no picture, no temporary file");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `--time-limit`: a script that would run for ever ends with status 124
+/// and no picture, at about the limit.
+pub fn a_time_limit_ends_the_run_with_124() {
+    let dir = scratch("time-limit");
+    for script in [
+        "while 1 {}",
+        "camera_resolution 3000 3000; samples 64; sphere 0 0 -3 1; point_light 1 1 1 0 5 0",
+    ] {
+        let start = Instant::now();
+        let out = raytrace()
+            .args(["--time-limit", "0.5", "-c", script, "out.png"])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let took = start.elapsed();
+        assert_eq!(out.status.code(), Some(124), "{script}: {}", text(&out.stderr));
+        assert!(text(&out.stderr).contains("time limit"), "{}", text(&out.stderr));
+        assert!(took < Duration::from_millis(1500), "{script}: {took:?}");
+        assert!(listing(&dir).is_empty(), "{:?}", listing(&dir));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

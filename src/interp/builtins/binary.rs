@@ -187,10 +187,14 @@ fn format(args: &[Value]) -> TclResult {
     };
     let fmt = next(&mut arg)?;
     for f in fields(fmt.as_str()) {
+        // The result may reach `n` bytes: within the cap, and within the
+        // memory budget for the piece, the buffer and the string made of
+        // it (checked before any of them is made).
         let grow = |n: usize| {
             if n > MAX_BYTES {
                 Err(Exception::error("binary format result too long"))
             } else {
+                crate::mem::reserve_n(n.saturating_sub(out.len()), 3)?;
                 Ok(n)
             }
         };
@@ -470,8 +474,21 @@ fn encode(kind: &str, args: &[Value]) -> TclResult {
             wrap = pair[1].as_str().to_string();
         }
     }
+    // The text, and (wrapped) its lines and their join: asked of the
+    // budget before they are made.
+    let len = if kind == "hex" { data.len() * 2 } else { data.len().div_ceil(3) * 4 };
+    let wraps = len.checked_div(maxlen).unwrap_or(0) * wrap.len();
+    crate::mem::reserve_n(len + wraps, if maxlen == 0 { 1 } else { 7 })?;
     let body: String = match kind {
-        "hex" => data.iter().map(|b| format!("{b:02x}")).collect(),
+        "hex" => {
+            const DIGITS: &[u8; 16] = b"0123456789abcdef";
+            let mut s = String::with_capacity(len);
+            for &b in data.iter() {
+                s.push(DIGITS[(b >> 4) as usize] as char);
+                s.push(DIGITS[(b & 15) as usize] as char);
+            }
+            s
+        }
         _ => {
             let mut s = String::with_capacity(data.len().div_ceil(3) * 4);
             for chunk in data.chunks(3) {
@@ -493,9 +510,15 @@ fn encode(kind: &str, args: &[Value]) -> TclResult {
     if maxlen == 0 || wrap.is_empty() {
         return Ok(Value::from_string(body));
     }
-    let chars: Vec<char> = body.chars().collect();
-    let lines: Vec<String> = chars.chunks(maxlen).map(|c| c.iter().collect()).collect();
-    Ok(Value::from_string(lines.join(&wrap)))
+    // The text is ASCII: lines are byte ranges.
+    let mut out = String::with_capacity(len + wraps);
+    for (k, line) in body.as_bytes().chunks(maxlen).enumerate() {
+        if k > 0 {
+            out.push_str(&wrap);
+        }
+        out.push_str(std::str::from_utf8(line).unwrap_or_default());
+    }
+    Ok(Value::from_string(out))
 }
 
 fn decode(kind: &str, args: &[Value]) -> TclResult {

@@ -389,7 +389,10 @@ fn cmd_open(interp: &mut Interp, argv: &[Value]) -> TclResult {
         interp.channels.files.insert(name.clone(), chan);
         return Ok(Value::from_string(name));
     }
-    interp.check_access(path, if write { Access::Write } else { Access::Read })?;
+    // Any flag that can create or change a file is a write, whatever the
+    // read/write flags say (`{RDONLY CREAT APPEND}` creates the file).
+    let changes = write || append || create || truncate;
+    interp.check_access(path, if changes { Access::Write } else { Access::Read })?;
     let mut opts = std::fs::OpenOptions::new();
     opts.read(read).write(write && !append).append(append);
     if exclusive && create {

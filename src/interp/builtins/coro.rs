@@ -47,6 +47,10 @@ const STACK_BYTES: usize = 128 << 20;
 const CORO_DEPTH: usize = 4000;
 /// Live coroutines at most (each holds a mapped stack).
 const MAX_COROUTINES: usize = 10_000;
+/// What the budget counts for each live coroutine's stack, which the
+/// allocator does not see: a coroutine that recursed a little touches
+/// about this much (45 of them held 376 MB).
+const CORO_CHARGE: usize = 8 << 20;
 
 /// What a resumer sends in: the interpreter, the value `yield` returns
 /// (or the words to run, at the start), and the frame index where the
@@ -243,6 +247,9 @@ fn cmd_coroutine(interp: &mut Interp, argv: &[Value]) -> TclResult {
             "too many coroutines: rayshell keeps at most {MAX_COROUTINES} alive"
         )));
     }
+    // The budget must have room for every live coroutine's stack, this
+    // one's included, beside the heap in use.
+    crate::mem::reserve(CORO_CHARGE.saturating_mul(interp.coroutines.gens.len() + 1))?;
     let key: Rc<str> = Rc::from(interp.new_command_key(argv[1].as_str())?);
     // A failure to map the stack is an error, not a crash.
     let co =

@@ -177,6 +177,43 @@ fn unix_time(t: std::io::Result<std::time::SystemTime>) -> i64 {
         .map_or(0, |d| d.as_secs() as i64)
 }
 
+/// Asks the host's policy (`--safe`) about every path a `file` subcommand
+/// names, in one place, so no subcommand can forget it: reads for those
+/// that look at the file system, changes for those that change it. Those
+/// that only work on the name's text ask nothing; `exists` and its kin
+/// answer 0 for a refused path (as Tcl's safe interpreters do), and
+/// `copy`, `rename` and `tempfile` ask for each of their names themselves.
+fn gate(interp: &Interp, sub: &str, a: &[Value]) -> Result<(), Exception> {
+    let names =
+        |a: &'_ [Value]| -> Vec<String> { a.iter().map(|v| v.as_str().to_string()).collect() };
+    let (access, paths) = match sub {
+        "readlink" | "owned" | "normalize" | "system" | "size" | "type" | "stat" | "lstat" => {
+            (Access::Read, names(&a[..a.len().min(1)]))
+        }
+        "atime" | "mtime" if a.len() > 1 => (Access::Modify, names(&a[..1])),
+        "atime" | "mtime" => (Access::Read, names(a)),
+        "attributes" if a.len() > 2 => (Access::Modify, names(&a[..1])),
+        "attributes" => (Access::Read, names(&a[..a.len().min(1)])),
+        "link" => {
+            let rest = match a.first().map(|v| v.as_str()) {
+                Some("-hard" | "-symbolic") => &a[1..],
+                _ => a,
+            };
+            match rest.len() {
+                2 => (Access::Modify, names(&rest[..1])),
+                _ => (Access::Read, names(rest)),
+            }
+        }
+        "mkdir" => (Access::Modify, names(a)),
+        "delete" => (Access::Modify, names(options(a, "-force").1)),
+        _ => return Ok(()),
+    };
+    for p in &paths {
+        interp.check_access(p, access)?;
+    }
+    Ok(())
+}
+
 fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
     check_args(argv, 2, usize::MAX, "subcommand ?arg ...?")?;
     let sub = pick_subcommand(argv[1].as_str(), SUBCOMMANDS)?;
@@ -187,6 +224,7 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
             _ => Err(Exception::wrong_args(&format!("file {sub} {usage}"))),
         }
     };
+    gate(interp, sub, a)?;
     Ok(match sub {
         "dirname" => Value::from_string(dirname(one("name")?)),
         "tail" => Value::from_string(tail(one("name")?)),
@@ -227,7 +265,6 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
         }
         "readlink" => {
             let n = one("name")?;
-            interp.check_access(n, Access::Read)?;
             let t = std::fs::read_link(n).map_err(|e| {
                 Exception::error(format!("could not read link \"{n}\": {}", posix_msg(&e)))
                     .with_error_code(&posix_code(&e))
@@ -245,7 +282,6 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
             let [n, var] = a else {
                 return Err(Exception::wrong_args(&format!("file {sub} name varName")));
             };
-            interp.check_access(n.as_str(), Access::Read)?;
             let m = metadata(n.as_str(), sub == "stat")?;
             let kind = kind_of(&m);
             let fields: [(&str, Value); 12] = [
@@ -280,7 +316,6 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
                     Value::from(t.to_string_lossy().as_ref())
                 }
                 [l, t] => {
-                    interp.check_access(l.as_str(), Access::Modify)?;
                     let r = if hard {
                         std::fs::hard_link(t.as_str(), l.as_str())
                     } else {
@@ -305,7 +340,6 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
                 [] => Value::from_list(vec![Value::from("-permissions"), perms]),
                 [o] if o.as_str() == "-permissions" => perms,
                 [o, v] if o.as_str() == "-permissions" => {
-                    interp.check_access(n.as_str(), Access::Modify)?;
                     let mode = crate::interp::number::parse_int(v.as_str())
                         .ok_or_else(|| crate::interp::number::int_error(v.as_str()))?;
                     std::fs::set_permissions(
@@ -344,7 +378,6 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
         }
         "size" | "mtime" | "atime" | "type" => {
             let n = one("name")?;
-            interp.check_access(n, Access::Read)?;
             let m = metadata(n, sub != "type")?;
             match sub {
                 "size" => Value::from_int(m.len() as i64),
@@ -355,7 +388,6 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
         }
         "mkdir" => {
             for d in a {
-                interp.check_access(d.as_str(), Access::Modify)?;
                 std::fs::create_dir_all(d.as_str()).map_err(|e| {
                     Exception::error(format!(
                         "can't create directory \"{}\": {}",
@@ -371,7 +403,6 @@ fn cmd_file(interp: &mut Interp, argv: &[Value]) -> TclResult {
             let (force, names) = options(a, "-force");
             for n in names {
                 let n = n.as_str();
-                interp.check_access(n, Access::Modify)?;
                 let p = Path::new(n);
                 let r = match std::fs::symlink_metadata(p) {
                     Err(_) => Ok(()),
@@ -512,8 +543,23 @@ fn matches_in(dir: &Path, pattern: &str) -> Vec<String> {
 }
 
 /// Expands `{a,b}` alternatives in a glob pattern.
-fn braces(pattern: &str) -> Vec<String> {
-    let Some(open) = pattern.find('{') else { return vec![pattern.to_string()] };
+/// The patterns a pattern's `{a,b}` alternatives stand for, in order.
+/// Their number multiplies with each brace (seven braces of ten are ten
+/// million patterns): each is asked of the memory budget as it is made.
+fn braces(pattern: &str) -> Result<Vec<String>, Exception> {
+    let mut out = Vec::new();
+    expand_braces(pattern, &mut out)?;
+    Ok(out)
+}
+
+fn expand_braces(pattern: &str, out: &mut Vec<String>) -> Result<(), Exception> {
+    let leaf = |out: &mut Vec<String>| -> Result<(), Exception> {
+        crate::mem::room(out, 1)?;
+        crate::mem::reserve(pattern.len())?;
+        out.push(pattern.to_string());
+        Ok(())
+    };
+    let Some(open) = pattern.find('{') else { return leaf(out) };
     let mut depth = 0;
     let mut close = None;
     for (i, c) in pattern[open..].char_indices() {
@@ -529,7 +575,7 @@ fn braces(pattern: &str) -> Vec<String> {
             _ => {}
         }
     }
-    let Some(close) = close else { return vec![pattern.to_string()] };
+    let Some(close) = close else { return leaf(out) };
     let (pre, body, post) = (&pattern[..open], &pattern[open + 1..close], &pattern[close + 1..]);
     let mut alts = Vec::new();
     let (mut depth, mut start) = (0, 0);
@@ -545,7 +591,10 @@ fn braces(pattern: &str) -> Vec<String> {
         }
     }
     alts.push(&body[start..]);
-    alts.iter().flat_map(|a| braces(&format!("{pre}{a}{post}"))).collect()
+    for a in alts {
+        expand_braces(&format!("{pre}{a}{post}"), out)?;
+    }
+    Ok(())
 }
 
 fn glob_one(base: &Path, pattern: &str) -> Vec<String> {
@@ -632,7 +681,7 @@ fn cmd_glob(interp: &mut Interp, argv: &[Value]) -> TclResult {
     }
     let mut out = Vec::new();
     for pat in &patterns {
-        for p in braces(pat) {
+        for p in braces(pat)? {
             for m in glob_one(Path::new(&base), &p) {
                 let full = if base.is_empty() || m.starts_with('/') {
                     m.clone()
@@ -716,6 +765,6 @@ mod tests {
         assert_eq!(split("/a//b"), ["/", "a", "b"]);
         let v = |s: &str| Value::from(s);
         assert_eq!(join(&[v("a"), v("b/"), v("/c"), v("d")]), "/c/d");
-        assert_eq!(braces("x{a,b{c,d}}y"), ["xay", "xbcy", "xbdy"]);
+        assert_eq!(braces("x{a,b{c,d}}y").unwrap(), ["xay", "xbcy", "xbdy"]);
     }
 }

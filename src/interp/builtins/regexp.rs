@@ -366,6 +366,15 @@ fn cmd_regsub(interp: &mut Interp, argv: &[Value]) -> TclResult {
         };
         let m = caps.get(0).expect("group 0 is the match");
         count += 1;
+        // The result grows by steps the budget is asked for as it goes
+        // (`regsub -all` of one character by ten can make ten times the
+        // text), and Ctrl-C is looked at now and then.
+        if count % 4096 == 0 {
+            if out.capacity() - out.len() < out.len() / 2 {
+                crate::mem::reserve(out.capacity())?;
+            }
+            interp.poll()?;
+        }
         out.push_str(&text[copied..m.start()]);
         if command {
             let mut words = spec_words(spec)?;

@@ -496,9 +496,9 @@ fn string_is(interp: &mut Interp, a: &[Value]) -> TclResult {
     let v = &a[a.len() - 1];
     let s = v.as_str();
     // Where the string stops being of the class (for -failindex).
-    let fail_at = |at: usize, interp: &mut Interp| -> TclResult {
+    let fail_at = |at: i64, interp: &mut Interp| -> TclResult {
         if let Some(var) = &fail_var {
-            interp.set_var(var.as_str(), Value::from_int(at as i64))?;
+            interp.set_var(var.as_str(), Value::from_int(at))?;
         }
         Ok(Value::from_bool(false))
     };
@@ -527,7 +527,7 @@ fn string_is(interp: &mut Interp, a: &[Value]) -> TclResult {
     };
     if let Some(f) = char_class {
         return match s.chars().position(|c| !f(c)) {
-            Some(at) => fail_at(at, interp),
+            Some(at) => fail_at(at as i64, interp),
             None => Ok(Value::from_bool(true)),
         };
     }
@@ -542,19 +542,20 @@ fn string_is(interp: &mut Interp, a: &[Value]) -> TclResult {
     if r {
         return Ok(Value::from_bool(true));
     }
-    // A number fails where its longest readable prefix ends.
+    // A number fails where its longest readable prefix ends; an integer
+    // that is readable whole but too big fails at -1, as in Tcl.
     let at = match class {
-        "integer" | "wideinteger" | "entier" | "double" => {
-            let ok = |p: &str| {
-                if class == "double" {
-                    number::parse_double(p).is_some()
-                } else {
-                    int_class_fits(class, p)
-                }
-            };
+        "integer" | "wideinteger" | "entier" => {
+            let at = number::integer_prefix(s);
+            if at == s.chars().count() { -1 } else { at as i64 }
+        }
+        "double" => {
             let ends: Vec<usize> =
                 s.char_indices().map(|(b, _)| b).skip(1).chain([s.len()]).collect();
-            ends.iter().rev().find(|&&e| ok(&s[..e])).map_or(0, |&e| s[..e].chars().count())
+            ends.iter()
+                .rev()
+                .find(|&&e| number::parse_double(&s[..e]).is_some())
+                .map_or(0, |&e| s[..e].chars().count() as i64)
         }
         _ => 0,
     };
@@ -563,8 +564,20 @@ fn string_is(interp: &mut Interp, a: &[Value]) -> TclResult {
 
 /// Whether `s` is an integer `string is CLASS` accepts: Tcl takes a
 /// magnitude of up to 32 bits for `integer` (either sign), up to 64 for
-/// `wideinteger`, any for `entier`.
+/// `wideinteger`, any for `entier`. Linear in the length: the digits are
+/// counted before any big number is made of them.
 fn int_class_fits(class: &str, s: &str) -> bool {
+    let Some((_, radix, digits)) = number::int_parts(s) else { return false };
+    if class == "entier" {
+        return true;
+    }
+    // 64 bits take at most 22 octal digits (fewer in other bases).
+    if digits.trim_start_matches('0').len() > 22 && radix != 2 {
+        return false;
+    }
+    if digits.trim_start_matches('0').len() > 64 {
+        return false;
+    }
     let Some(n) = number::parse_integer(s) else { return false };
     let bits = match &n {
         Num::Int(i) => 64 - i.unsigned_abs().leading_zeros() as u64,
