@@ -54,7 +54,9 @@
 //!   scenes (`nff`), atomic
 //!   files, statistics and the last picture (`stats`), progress bars, ETA
 //!   and Ctrl-C (`feedback`), the preview window (`preview`), pictures in
-//!   the terminal (`term`), animation batches, merges and movies (`frames`).
+//!   the terminal (`term`), animation batches, merges and movies (`frames`),
+//!   and the `--safe` fence (`safe`: every path a scene names is resolved
+//!   by the kernel beneath an allowed directory, `docs/safe.md`).
 //!
 //! # Invariants
 //!
@@ -102,6 +104,11 @@
 //! - Nothing recurses without a bound at render time: instances nest at
 //!   most 32 deep, fractals 10, CSG and `push` 1,000.
 //! - An image reaches its final name only whole (`shell::AtomicFile`).
+//! - Under `--safe`, no path a scene names reaches a file or directory that
+//!   is not beneath an allowed directory as the kernel resolves it
+//!   (`openat2` with `RESOLVE_BENEATH`): every command that takes a path
+//!   asks `shell::safe` (`tests/it/safe.rs` walks the command table), and
+//!   a picture is never written through a link.
 //! - No input makes the program abort or run the machine out of memory:
 //!   growth that could pass the budget (`mem`) is refused as an error, and
 //!   nothing recurses natively without a bound (nested lists are printed

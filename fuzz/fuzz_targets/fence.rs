@@ -96,10 +96,18 @@ fuzz_target!(|data: &[u8]| {
             2 => d.inside.join("a/b"),
             _ => d.inside.join("m"),
         };
+        // The tree is made inside only: never through a link made before.
+        if !std::fs::canonicalize(&dir).is_ok_and(|r| beneath(&r, d)) {
+            continue;
+        }
         let name = dir.join(NAMES[*what as usize % NAMES.len()]);
         let _ = match kind % 3 {
-            0 => std::fs::create_dir_all(&name),
-            1 => std::fs::write(&name, "inside"),
+            0 => std::fs::create_dir(&name),
+            1 => std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&name)
+                .and_then(|mut f| std::io::Write::write_all(&mut f, b"inside")),
             _ => std::os::unix::fs::symlink(target(*what / 7, d), &name),
         };
     }

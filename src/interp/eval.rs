@@ -2108,7 +2108,10 @@ fn too_deep() -> Exception {
 
 /// The error for output that could not be written to stdout.
 fn stdout_error(e: &std::io::Error) -> Exception {
-    let err = Exception::error(format!("error writing \"stdout\": {e}"));
+    // As Tcl words it: "no space left on device", not Rust's "(os error 28)".
+    let text = e.to_string();
+    let why = text.split(" (os error").next().unwrap_or(&text).to_lowercase();
+    let err = Exception::error(format!("error writing \"stdout\": {why}"));
     // Tcl's errorCode for a reader that went away.
     if e.kind() == std::io::ErrorKind::BrokenPipe {
         err.with_error_code("POSIX EPIPE {broken pipe}")

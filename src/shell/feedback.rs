@@ -84,6 +84,14 @@ pub fn limit_time(seconds: f64) {
 /// Ends the process as interrupted (status 130, or 124 past the time
 /// limit): temporary files removed, buffered output flushed.
 pub fn exit_now() -> ! {
+    // Programs `exec` waits for get the signal the terminal would have
+    // sent them (a SIGINT to raytrace alone reached only it).
+    #[cfg(target_os = "linux")]
+    for pid in crate::interp::waited_children() {
+        if let Some(pid) = rustix::process::Pid::from_raw(pid as i32) {
+            let _ = rustix::process::kill_process(pid, rustix::process::Signal::INT);
+        }
+    }
     for p in TEMPS.lock().unwrap_or_else(|e| e.into_inner()).drain(..) {
         let _ = std::fs::remove_file(p);
     }

@@ -614,22 +614,27 @@ fn run(cli: Cli) -> i32 {
             }
         }
     };
+    // An error of what follows the script (the render of the output, the
+    // last flush of stdout) is placed at the script's last line (read
+    // again only for the message).
+    let at_end = |e: Exception| match (&file, &cli.command) {
+        (Some(f), _) => {
+            let line = end.unwrap_or_else(|| std::fs::read(f).map(|b| last_line(&b)).unwrap_or(1));
+            at_end_of(e, f, line)
+        }
+        (None, Some(cmd)) => at_end_of(e, "-c", last_line(cmd.as_bytes())),
+        (None, None) => e,
+    };
     let r = match (r, &output) {
         (Ok(_), Some(out)) => {
             let argv = [Value::from("render"), Value::from(out.to_string_lossy().as_ref())];
-            interp.invoke(&argv).map_err(|e| match (&file, &cli.command) {
-                // The script's last line (read again only for the message).
-                (Some(f), _) => {
-                    let line =
-                        end.unwrap_or_else(|| std::fs::read(f).map(|b| last_line(&b)).unwrap_or(1));
-                    at_end_of(e, f, line)
-                }
-                (None, Some(cmd)) => at_end_of(e, "-c", last_line(cmd.as_bytes())),
-                (None, None) => e,
-            })
+            interp.invoke(&argv).map_err(at_end)
         }
         (r, _) => r,
     };
+    // What is still buffered for stdout is written now, so a failure (a
+    // full disk) is placed like any other error.
+    let r = r.and_then(|v| interp.flush_checked().map(|_| v).map_err(at_end));
     let quiet = cli.quiet || cli.progress == ProgressMode::None;
     if r.is_ok() && output.is_none() && state.borrow().renders == 0 && !quiet {
         let b = scene.borrow();

@@ -618,3 +618,33 @@ pub fn any_address_space_limit_runs_or_says_why() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue "untrusted scenes", finding 13: every error names `file:line`,
+/// however it ends the script: a bad return code, an `-errorinfo` of the
+/// script's own, output that cannot be written.
+pub fn errors_name_their_line_however_they_end() {
+    let dir = scratch("located");
+    let cases = [
+        ("puts a\nreturn -code 5\n", "f.tcl:2: command returned bad code: 5"),
+        ("puts a\nreturn -code error -errorinfo {my own} boom\n", "f.tcl:2: boom\nmy own"),
+        ("puts a\n\nbreak\n", "f.tcl:3: invoked \"break\" outside of a loop"),
+    ];
+    for (script, want) in cases {
+        std::fs::write(dir.join("f.tcl"), script).unwrap();
+        let r = raytrace().arg("f.tcl").current_dir(&dir).output().unwrap();
+        assert_eq!(r.status.code(), Some(1), "{script}");
+        assert!(text(&r.stderr).starts_with(want), "{script}: {}", text(&r.stderr));
+    }
+    if std::path::Path::new("/dev/full").exists() {
+        std::fs::write(dir.join("f.tcl"), "puts a\nputs b\n").unwrap();
+        let full = std::fs::File::create("/dev/full").unwrap();
+        let r = raytrace().arg("f.tcl").current_dir(&dir).stdout(full).output().unwrap();
+        assert_eq!(r.status.code(), Some(1));
+        let err = text(&r.stderr);
+        assert!(
+            err.starts_with("f.tcl:2: error writing \"stdout\": no space left on device"),
+            "{err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

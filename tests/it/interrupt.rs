@@ -249,7 +249,7 @@ pub fn one_ctrl_c_ends_every_wait_within_half_a_second() {
     let cases: [(&str, &[&str]); 6] = [
         ("open", &["-c", "puts hello; open pipe"]),
         ("gets", &["-c", "puts hello; gets stdin"]),
-        ("exec", &["-c", "puts hello; exec sleep 30"]),
+        ("exec", &["-c", "puts hello; exec sleep 31.25"]),
         ("texture", &["-c", "puts hello; texture image pipe planar"]),
         ("nff", &["-c", "puts hello; nff pipe"]),
         (
@@ -281,6 +281,11 @@ pub fn one_ctrl_c_ends_every_wait_within_half_a_second() {
         assert!(took < Duration::from_millis(900), "{what}: {took:?}");
     }
     assert_eq!(listing(&dir), ["pipe"], "no picture, no temporary file");
+    // The program `exec` waited for got the signal too.
+    std::thread::sleep(Duration::from_millis(200));
+    if let Ok(p) = Command::new("pgrep").args(["-f", "sleep 31.25"]).output() {
+        assert!(p.stdout.is_empty(), "exec's child outlived raytrace: {}", text(&p.stdout));
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

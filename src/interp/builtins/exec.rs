@@ -156,6 +156,29 @@ fn parse(words: &[String], capture_err: bool) -> Result<Pipeline, Exception> {
     Ok(p)
 }
 
+/// The processes of the `exec` pipeline being waited for (not those sent
+/// to the background): a host that must end at once, past its grace after
+/// Ctrl-C, hands them the signal first, as a terminal would have.
+static WAITED: std::sync::Mutex<Vec<u32>> = std::sync::Mutex::new(Vec::new());
+
+/// The processes `exec` is waiting for now.
+pub fn waited_children() -> Vec<u32> {
+    WAITED.lock().unwrap_or_else(|e| e.into_inner()).clone()
+}
+
+fn set_waited(pids: Vec<u32>) {
+    *WAITED.lock().unwrap_or_else(|e| e.into_inner()) = pids;
+}
+
+/// Clears `WAITED` however the wait ends (an error on the way returns early).
+struct Waiting;
+
+impl Drop for Waiting {
+    fn drop(&mut self) {
+        set_waited(Vec::new());
+    }
+}
+
 /// A started pipeline: its children, and the ends the caller keeps.
 struct Running {
     children: Vec<Child>,
@@ -376,6 +399,8 @@ fn cmd_exec(interp: &mut Interp, argv: &[Value]) -> TclResult {
         return Ok(Value::from_list(pids));
     }
     let mut run = spawn(interp, &p, false)?;
+    set_waited(run.children.iter().map(|c| c.id()).collect());
+    let _waiting = Waiting;
     let err_thread = run.stderr.take().map(|mut r| {
         std::thread::spawn(move || {
             let mut buf = Vec::new();
