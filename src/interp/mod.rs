@@ -19,7 +19,7 @@ mod stream;
 mod value;
 
 pub use builtins::subcommands;
-pub use builtins::waited_children;
+pub use builtins::{making_a_stack, waited_children};
 pub use error::{Code, Exception, Loc, TclResult};
 pub use eval::{Access, FsPolicy, Host, INTERRUPT_CODE, Interp, MAX_LIST_LEN, MAX_VALUE_LEN};
 pub use number::{Num, format_double, parse_double};

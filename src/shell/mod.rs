@@ -437,6 +437,14 @@ fn set_argv(interp: &mut Interp, argv0: &str, args: &[String]) {
 /// The program: parse arguments, then run a script, `-c`, stdin or the REPL.
 pub fn main() -> ExitCode {
     budget::fit_address_space();
+    // A coroutine's stack that cannot be mapped is a Tcl error, not a
+    // message from the crate that maps it.
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if !crate::interp::making_a_stack() {
+            default_hook(info);
+        }
+    }));
     let cli = match args::parse() {
         Ok(c) => c,
         Err(code) => return ExitCode::from(code),

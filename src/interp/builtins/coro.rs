@@ -52,6 +52,17 @@ const MAX_COROUTINES: usize = 10_000;
 /// about this much (45 of them held 376 MB).
 const CORO_CHARGE: usize = 8 << 20;
 
+thread_local! {
+    static MAKING_STACK: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether this thread is mapping a coroutine's stack, whose failure is a
+/// panic of the generator crate that `coroutine` turns into an error: a
+/// host's panic hook should not print it.
+pub fn making_a_stack() -> bool {
+    MAKING_STACK.with(|m| m.get())
+}
+
 /// What a resumer sends in: the interpreter, the value `yield` returns
 /// (or the words to run, at the start), and the frame index where the
 /// coroutine's frames go now.
@@ -251,10 +262,14 @@ fn cmd_coroutine(interp: &mut Interp, argv: &[Value]) -> TclResult {
     // one's included, beside the heap in use.
     crate::mem::reserve(CORO_CHARGE.saturating_mul(interp.coroutines.gens.len() + 1))?;
     let key: Rc<str> = Rc::from(interp.new_command_key(argv[1].as_str())?);
-    // A failure to map the stack is an error, not a crash.
+    // A failure to map the stack is an error, not a crash (the generator
+    // crate panics; the host's panic hook stays quiet meanwhile).
+    MAKING_STACK.with(|m| m.set(true));
     let co =
-        std::panic::catch_unwind(|| generator::Gn::<Resume>::new_opt(STACK_BYTES / 8, coro_main))
-            .map_err(|_| Exception::error("couldn't create a coroutine: no memory for its stack"))?;
+        std::panic::catch_unwind(|| generator::Gn::<Resume>::new_opt(STACK_BYTES / 8, coro_main));
+    MAKING_STACK.with(|m| m.set(false));
+    let co =
+        co.map_err(|_| Exception::error("couldn't create a coroutine: no memory for its stack"))?;
     let k = key.clone();
     interp.register_host(&key, "?value?", "resume the coroutine", move |i, argv| {
         let in_yieldto = i.coroutines.gens.get(&k).is_some_and(|s| s.1);

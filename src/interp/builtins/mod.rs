@@ -34,6 +34,7 @@ pub fn subcommands(command: &str) -> Option<&'static [&'static str]> {
 pub(crate) use chan::Channels;
 pub(crate) use control::{check_if, with_body_line};
 pub(crate) use coro::Coroutines;
+pub use coro::making_a_stack;
 pub use exec::waited_children;
 pub(crate) use lists::{append_element, append_elements};
 pub(crate) use misc::{PARRAY, UNKNOWN};
