@@ -18,7 +18,7 @@ pub struct Cli {
     /// The script to run (a .tsd scene is a Tcl script; `-` reads it from
     /// standard input).
     pub script: Option<PathBuf>,
-    /// Render the final scene into this file (.ppm or .png) after the script.
+    /// Render the final scene into this file (.png, .ppm or .pfm) after the script.
     pub output: Option<PathBuf>,
     /// Run this script text instead of a file (`-c SCRIPT OUTPUT` renders
     /// the final scene into OUTPUT).

@@ -317,11 +317,63 @@ pub fn help_text(interp: &Interp, name: Option<&str>) -> Result<String, Exceptio
     }
 }
 
+/// For an error from an unknown command, the closest known name, as a
+/// hint (` (did you mean "sphere"?)`); Tcl's message itself, which
+/// `catch` sees, is left as tclsh words it.
+pub fn did_you_mean(interp: &Interp, e: &Exception) -> Option<String> {
+    let code = e.error_code();
+    let name = code.as_str().strip_prefix("TCL LOOKUP COMMAND ")?;
+    let name = name.trim_start_matches(':');
+    // Nearest first; of those as near, one with the same letters (a
+    // transposition: `camera_form` is `camera_from`, not `camera_forw`).
+    let letters = |s: &str| {
+        let mut v: Vec<char> = s.chars().collect();
+        v.sort_unstable();
+        v
+    };
+    let mine = letters(name);
+    let best = interp
+        .command_names()
+        .into_iter()
+        .map(|c| (edit_distance(name, c.trim_start_matches(':')), letters(&c) != mine, c))
+        .filter(|(d, _, c)| *d > 0 && *d <= (name.len() / 3).clamp(1, 3) && !c.contains("::"))
+        .min()?;
+    Some(format!("did you mean \"{}\"?", best.2))
+}
+
+/// Levenshtein distance with transpositions (optimal string alignment).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    if a.len().abs_diff(b.len()) > 3 || a.len() > 64 || b.len() > 64 {
+        return usize::MAX;
+    }
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    for (j, cell) in d[0].iter_mut().enumerate() {
+        *cell = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            d[i][j] = (d[i - 1][j] + 1).min(d[i][j - 1] + 1).min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                d[i][j] = d[i][j].min(d[i - 2][j - 2] + 1);
+            }
+        }
+    }
+    d[a.len()][b.len()]
+}
+
 /// Prints an uncaught error as `file:line: message` plus the Tcl trace.
 pub fn report_error(interp: &mut Interp, e: &Exception) {
     interp.flush();
     let info = e.error_info();
     let mut text = e.located_message();
+    if let Some(hint) = did_you_mean(interp, e) {
+        text.push_str(&format!(" ({hint})"));
+    }
     match info.strip_prefix(e.message()) {
         Some(trace) => text.push_str(trace),
         // An -errorinfo of the script's own, not led by the message.
@@ -648,6 +700,9 @@ fn run(cli: Cli) -> i32 {
         let b = scene.borrow();
         if !b.prims.is_empty() || !b.lights.is_empty() {
             let (name, how) = match file.as_deref() {
+                Some("stdin") if cli.script.as_ref().is_none_or(|s| s.as_os_str() == "-") => {
+                    ("the script".to_string(), "raytrace - out.png".to_string())
+                }
                 Some(f) => (f.to_string(), format!("raytrace {f} out.png")),
                 None => ("the script".to_string(), "raytrace -c SCRIPT out.png".to_string()),
             };

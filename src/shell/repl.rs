@@ -178,7 +178,10 @@ pub fn eval_line(interp: &mut Interp, line: &str) -> Reply {
                 // As tclsh does after an uncaught error.
                 let _ = interp.set_var("::errorInfo", crate::interp::Value::from(e.error_info()));
                 let _ = interp.set_var("::errorCode", e.error_code());
-                Reply::Error(e.message().to_string())
+                match super::did_you_mean(interp, &e) {
+                    Some(hint) => Reply::Error(format!("{} ({hint})", e.message())),
+                    None => Reply::Error(e.message().to_string()),
+                }
             }
             // `return -code error` at the prompt is an error, as in tclsh.
             Code::Return if e.return_code == Some(Code::Error) => {

@@ -65,10 +65,16 @@ pub fn errors_name_file_and_line() {
     let out = raytrace().arg("tests/tcl/err_unknown.tcl").current_dir(root()).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = text(&out.stderr);
+    // Tcl's message, then the hint (issue "the first hour": "did you mean").
     assert!(
-        err.starts_with("tests/tcl/err_unknown.tcl:3: invalid command name \"sphre\"\n"),
+        err.starts_with(
+            "tests/tcl/err_unknown.tcl:3: invalid command name \"sphre\" (did you mean \"sphere\"?)\n"
+        ),
         "{err}"
     );
+    // `catch` sees Tcl's own words, without the hint.
+    let caught = raytrace().args(["-c", "catch {sphre} m; puts $m"]).output().unwrap();
+    assert_eq!(text(&caught.stdout), "invalid command name \"sphre\"\n");
     assert!(err.contains("(procedure \"helper\" line 2)"), "{err}");
     assert!(err.contains("(file \"tests/tcl/err_unknown.tcl\" line 5)"), "{err}");
     assert_eq!(text(&out.stdout), "before\n");
