@@ -41,6 +41,18 @@ pub fn set_budget(bytes: usize) {
     FLOOR.store(usize::MAX - bytes, Ordering::Relaxed);
 }
 
+/// Whether the process runs under an address-space limit (`ulimit -v`),
+/// where memory that is only reserved counts as much as memory used.
+static ADDRESS_LIMITED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+pub fn set_address_limited(limited: bool) {
+    ADDRESS_LIMITED.store(limited, Ordering::Relaxed);
+}
+
+pub fn address_limited() -> bool {
+    ADDRESS_LIMITED.load(Ordering::Relaxed)
+}
+
 /// Whether the heap is already past the budget.
 #[inline]
 pub fn over() -> bool {

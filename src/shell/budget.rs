@@ -86,6 +86,7 @@ pub fn fit_address_space() {
 /// again fails the same way), said before anything is tried.
 pub fn apply(max_memory: Option<u64>) -> Result<(), String> {
     if let Some(limit) = address_space_limit() {
+        crate::mem::set_address_limited(true);
         let need = NOT_HEAP + 2 * MIN_HEAP;
         if limit < need {
             return Err(format!(

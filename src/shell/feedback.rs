@@ -38,7 +38,7 @@ pub static TIMED_OUT: AtomicBool = AtomicBool::new(false);
 /// ends at once (`exit_now`): whatever it was waiting on (a FIFO with no
 /// writer, `gets` on an endless line, a program run by `exec`) cannot
 /// hold it longer. Not in the REPL, which must keep its session.
-const GRACE: Duration = Duration::from_millis(350);
+const GRACE: Duration = Duration::from_millis(450);
 
 /// Routes Ctrl-C (SIGINT, SIGTERM, SIGHUP) to `INTERRUPTED`; a second one
 /// while the first is still pending (outside the REPL) ends the process at

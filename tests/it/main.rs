@@ -169,6 +169,7 @@ fn main() {
         readme::the_opening_example_renders_the_picture_under_it,
         readme::first_scene_steps_render_their_pictures,
         readme::the_command_table_is_the_help_text,
+        readme::every_link_resolves,
         readme::help_shows_a_whole_entry,
         render::lambert_pixel_under_parallel_light,
         render::point_light_falls_off_as_inverse_square,

@@ -91,40 +91,142 @@ pub fn first_scene_steps_render_their_pictures() {
     }
 }
 
-/// The README's table of scene commands, as `help` would write it: usage
-/// from each command's registration, meaning and default from
-/// `shell::docs` (one source for both).
-fn command_table() -> String {
+/// The README's one-line table of scene commands: each command's usage
+/// and short description from its registration (what `help` lists),
+/// linked to its whole entry in docs/reference.md.
+fn summary_table() -> String {
     let session = rayshell::shell::Session::new(Box::new(rayshell::shell::CaptureHost::default()));
-    let mut rows =
-        vec!["| command | meaning | default |".to_string(), "| --- | --- | --- |".into()];
+    let mut rows = vec!["| command | what it does |".to_string(), "| --- | --- |".into()];
     for doc in rayshell::shell::docs::SCENE {
-        let (usage, _) = session.interp.help(doc.name).expect("a registered scene command");
+        let (usage, short) = session.interp.help(doc.name).expect("a registered scene command");
         let usage = format!("{} {usage}", doc.name).trim().replace('|', "\\|");
-        let default =
-            if doc.default.is_empty() { String::new() } else { format!("`{}`", doc.default) };
-        rows.push(format!("| `{usage}` | {} | {default} |", doc.meaning.replace('|', "\\|")));
+        rows.push(format!(
+            "| [`{usage}`](docs/reference.md#{}) | {} |",
+            doc.name,
+            short.replace('|', "\\|")
+        ));
     }
     rows.join("\n")
 }
 
-pub fn the_command_table_is_the_help_text() {
-    let doc = readme();
-    let start = doc.find("| command | meaning | default |").expect("the scene command table");
-    let end = start + doc[start..].find("\n\n").expect("the table's end");
-    let want = command_table();
+/// docs/reference.md's entries, as `help NAME` writes them: usage from
+/// each command's registration, meaning, default and example from
+/// `shell::docs` (one source for both).
+fn reference_entries() -> String {
+    let session = rayshell::shell::Session::new(Box::new(rayshell::shell::CaptureHost::default()));
+    let mut out = Vec::new();
+    for doc in rayshell::shell::docs::SCENE {
+        let (usage, _) = session.interp.help(doc.name).expect("a registered scene command");
+        out.push(format!("### {}\n", doc.name));
+        out.push(format!("`{}`\n", format!("{} {usage}", doc.name).trim()));
+        out.push(format!("{}\n", doc.meaning));
+        if !doc.default.is_empty() {
+            out.push(format!("Default: `{}`.\n", doc.default));
+        }
+        if !doc.example.is_empty() {
+            out.push(format!("Example: `{}`\n", doc.example));
+        }
+    }
+    out.join("\n")
+}
+
+/// Checks the part of `file` from the line `begin` to the next line
+/// `end` (or blank line, for `end` empty) against `want`, or rewrites it
+/// under UPDATE_EXPECT=1.
+fn check_generated(file: &str, begin: &str, end: &str, want: &str) {
+    let path = root().join(file);
+    let doc = std::fs::read_to_string(&path).unwrap_or_else(|_| panic!("{file}"));
+    let start = doc.find(begin).unwrap_or_else(|| panic!("{file}: no \"{begin}\"")) + begin.len();
+    let stop = if end.is_empty() {
+        start + doc[start..].find("\n\n").unwrap_or(doc.len() - start)
+    } else {
+        start + doc[start..].find(end).unwrap_or_else(|| panic!("{file}: no \"{end}\""))
+    };
     if std::env::var_os("UPDATE_EXPECT").is_some() {
-        let updated = format!("{}{want}{}", &doc[..start], &doc[end..]);
-        std::fs::write(root().join("README.md"), updated).unwrap();
+        std::fs::write(&path, format!("{}{want}{}", &doc[..start], &doc[stop..])).unwrap();
         return;
     }
-    let got = &doc[start..end];
+    let got = &doc[start..stop];
     if got != want {
         let first = got.lines().zip(want.lines()).find(|(a, b)| a != b);
         panic!(
-            "the README's command table differs from `help` (UPDATE_EXPECT=1 rewrites it); first difference:\n{first:?}"
+            "{file} differs from `help` (UPDATE_EXPECT=1 rewrites it); first difference:\n{first:?}"
         );
     }
+}
+
+pub fn the_command_table_is_the_help_text() {
+    let table = summary_table();
+    let body = table.split_once("| --- | --- |\n").map_or("", |x| x.1).to_string();
+    check_generated("README.md", "| command | what it does |\n| --- | --- |\n", "", &body);
+    check_generated(
+        "docs/reference.md",
+        "UPDATE_EXPECT=1 rewrites it -->\n",
+        "<!-- end of generated text -->",
+        &(reference_entries() + "\n"),
+    );
+}
+
+/// Every link in the README and docs/ leads somewhere: a file that exists,
+/// and a heading in it for an anchor (GitHub's way of naming headings).
+pub fn every_link_resolves() {
+    let slug = |h: &str| -> String {
+        h.trim()
+            .to_lowercase()
+            .chars()
+            .filter(|c| c.is_alphanumeric() || matches!(c, '-' | '_' | ' '))
+            .map(|c| if c == ' ' { '-' } else { c })
+            .collect()
+    };
+    let anchors = |text: &str| -> Vec<String> {
+        let mut fenced = false;
+        let mut v = Vec::new();
+        for l in text.lines() {
+            if l.starts_with("```") {
+                fenced = !fenced;
+            }
+            if !fenced && l.starts_with('#') {
+                v.push(slug(l.trim_start_matches('#')));
+            }
+        }
+        v
+    };
+    let mut files = vec![root().join("README.md")];
+    for e in std::fs::read_dir(root().join("docs")).unwrap().flatten() {
+        if e.path().extension().is_some_and(|x| x == "md") {
+            files.push(e.path());
+        }
+    }
+    let mut bad = Vec::new();
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        let mut rest = text.as_str();
+        while let Some(i) = rest.find("](") {
+            rest = &rest[i + 2..];
+            let Some(end) = rest.find(')') else { break };
+            let target = &rest[..end];
+            if target.contains("://") || target.contains(' ') || target.is_empty() {
+                continue;
+            }
+            let (path, anchor) = target.split_once('#').unwrap_or((target, ""));
+            let dest =
+                if path.is_empty() { file.clone() } else { file.parent().unwrap().join(path) };
+            if !dest.exists() {
+                bad.push(format!("{}: {target}: no such file", file.display()));
+                continue;
+            }
+            if !anchor.is_empty() {
+                let t = std::fs::read_to_string(&dest).unwrap_or_default();
+                if !anchors(&t).iter().any(|a| a == anchor) {
+                    bad.push(format!("{}: {target}: no such heading", file.display()));
+                }
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{} broken links:\n{}", bad.len(), bad.join("\n"));
+    // The README is a front page, not the manual.
+    let lines = std::fs::read_to_string(root().join("README.md")).unwrap().lines().count();
+    assert!(lines <= 600, "README.md has {lines} lines; the reference belongs in docs/");
 }
 
 pub fn help_shows_a_whole_entry() {

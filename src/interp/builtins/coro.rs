@@ -259,8 +259,10 @@ fn cmd_coroutine(interp: &mut Interp, argv: &[Value]) -> TclResult {
         )));
     }
     // The budget must have room for every live coroutine's stack, this
-    // one's included, beside the heap in use.
-    crate::mem::reserve(CORO_CHARGE.saturating_mul(interp.coroutines.gens.len() + 1))?;
+    // one's included, beside the heap in use: what it touches, or under an
+    // address-space limit (where a mapping counts whole) all of it.
+    let charge = if crate::mem::address_limited() { STACK_BYTES } else { CORO_CHARGE };
+    crate::mem::reserve(charge.saturating_mul(interp.coroutines.gens.len() + 1))?;
     let key: Rc<str> = Rc::from(interp.new_command_key(argv[1].as_str())?);
     // A failure to map the stack is an error, not a crash (the generator
     // crate panics; the host's panic hook stays quiet meanwhile).
