@@ -13,6 +13,114 @@ pub struct Doc {
     pub example: &'static str,
 }
 
+/// The topics `help` groups the scene commands under, each with a line
+/// that says what it is for, and its commands in the reference's order
+/// (each scene command is in exactly one: `tests` below). Every other
+/// command is Tcl's (`help tcl`).
+pub const TOPICS: &[(&str, &str, &[&str])] = &[
+    (
+        "camera",
+        "where the picture is taken from, its size and lens",
+        &[
+            "camera_from",
+            "camera_target",
+            "camera_forw",
+            "camera_up",
+            "camera_angle",
+            "camera_resolution",
+            "camera_aperture",
+            "camera_focus",
+        ],
+    ),
+    (
+        "geometry",
+        "shapes, meshes and scene files",
+        &[
+            "vertex",
+            "normal",
+            "tri",
+            "ntri",
+            "sphere",
+            "plane",
+            "box",
+            "cylinder",
+            "cone",
+            "disk",
+            "torus",
+            "mesh",
+            "nff",
+            "sphereflake",
+            "menger",
+            "blob",
+            "blob_sphere",
+            "max_vertices",
+            "max_normals",
+            "scene_bounds",
+            "clear_scene",
+        ],
+    ),
+    (
+        "structure",
+        "transforms, CSG, groups and instances",
+        &[
+            "translate",
+            "rotate",
+            "rotate_axis",
+            "scale",
+            "push",
+            "pop",
+            "transform",
+            "csg",
+            "group",
+            "instance",
+        ],
+    ),
+    (
+        "materials",
+        "how surfaces look: colour, textures, highlights, bumps, emission",
+        &["material", "texture", "highlight", "bump", "displace", "emission"],
+    ),
+    (
+        "lights",
+        "lights, the sky and the background",
+        &[
+            "background",
+            "environment",
+            "ambient_light",
+            "parallel_light",
+            "point_light",
+            "spot_light",
+            "area_light",
+            "sphere_light",
+        ],
+    ),
+    (
+        "sampling",
+        "rays per pixel, path tracing, noise, filters and the look",
+        &[
+            "trace_depth",
+            "integrator",
+            "samples",
+            "filter",
+            "adaptive",
+            "seed",
+            "exposure",
+            "tonemap",
+        ],
+    ),
+    ("animation", "motion blur and moving objects", &["shutter", "motion"]),
+    (
+        "output",
+        "rendering, showing and measuring",
+        &["render", "show", "preview", "stats", "raybench", "help"],
+    ),
+];
+
+/// The topic a command is in, if it is a scene command.
+pub fn topic_of(name: &str) -> Option<&'static str> {
+    TOPICS.iter().find(|t| t.2.contains(&name)).map(|t| t.0)
+}
+
 /// The scene commands, in the README's order.
 pub const SCENE: &[Doc] = &[
     Doc {

@@ -278,8 +278,8 @@ fn register_shell_commands(interp: &mut Interp) {
     set_environment(interp);
     interp.register_host(
         "help",
-        "?command?",
-        "list commands, or show one command's usage",
+        "?topic|command?",
+        "the commands by topic, a topic's commands, or one command whole",
         |interp, argv| {
             crate::interp::check_args(argv, 1, 2, "?command?")?;
             Ok(Value::from_string(help_text(interp, argv.get(1).map(|v| v.as_str()))?))
@@ -288,6 +288,9 @@ fn register_shell_commands(interp: &mut Interp) {
 }
 
 pub fn help_text(interp: &Interp, name: Option<&str>) -> Result<String, Exception> {
+    if let Some(text) = name.and_then(|n| help_topic(interp, n)) {
+        return Ok(text);
+    }
     match name {
         Some(n) => match (interp.help(n), docs::find(n)) {
             (Some((usage, _)), Some(doc)) => {
@@ -302,19 +305,63 @@ pub fn help_text(interp: &Interp, name: Option<&str>) -> Result<String, Exceptio
             (None, _) if interp.has_command(n) => Ok(format!("{n}: a procedure")),
             (None, _) => Err(Exception::error(format!("no help for \"{n}\": no such command"))),
         },
-        None => {
-            let names = interp.help_names();
-            let width = names.iter().map(|n| n.len()).max().unwrap_or(0);
-            let lines: Vec<String> = names
-                .iter()
-                .map(|n| {
-                    let (usage, _) = interp.help(n).unwrap_or(("", ""));
-                    format!("{n:width$} {usage}")
-                })
-                .collect();
-            Ok(lines.join("\n"))
-        }
+        None => Ok(help_overview(interp)),
     }
+}
+
+/// `help` alone: the scene commands by topic, each topic with what it is
+/// for and its commands' names, then Tcl's.
+fn help_overview(interp: &Interp) -> String {
+    let mut out = vec![
+        "Scene commands by topic (help TOPIC: each with a line; help NAME: one command whole):"
+            .to_string(),
+    ];
+    for (topic, what, names) in docs::TOPICS {
+        out.push(format!("  {topic:<10} {what}"));
+        let indent = " ".repeat(13);
+        let mut line = indent.clone();
+        for n in names.iter() {
+            if line.len() + n.len() > 78 {
+                out.push(std::mem::replace(&mut line, indent.clone()).trim_end().to_string());
+            }
+            line.push_str(n);
+            line.push(' ');
+        }
+        out.push(line.trim_end().to_string());
+    }
+    let tcl = tcl_commands(interp);
+    out.push(format!("  {:<10} the language's own commands ({}): help tcl", "tcl", tcl.len()));
+    out.join("\n")
+}
+
+/// The commands that are not scene commands: Tcl's, and the procs the
+/// script defined.
+fn tcl_commands(interp: &Interp) -> Vec<String> {
+    interp.help_names().into_iter().filter(|n| docs::topic_of(n).is_none()).collect()
+}
+
+/// `help TOPIC`: each command of the topic with its usage and a line.
+fn help_topic(interp: &Interp, topic: &str) -> Option<String> {
+    let (what, names): (&str, Vec<String>) = match topic {
+        "tcl" => ("the language's own commands", tcl_commands(interp)),
+        t => {
+            let (_, what, names) = docs::TOPICS.iter().find(|x| x.0 == t)?;
+            (what, names.iter().map(|n| n.to_string()).collect())
+        }
+    };
+    let rows: Vec<(String, &str)> = names
+        .iter()
+        .map(|n| {
+            let (usage, short) = interp.help(n).unwrap_or(("", ""));
+            (format!("{n} {usage}").trim_end().to_string(), short)
+        })
+        .collect();
+    let width = rows.iter().map(|r| r.0.chars().count()).filter(|&w| w <= 40).max().unwrap_or(0);
+    let mut out = vec![format!("{topic}: {what}")];
+    for (usage, short) in rows {
+        out.push(format!("  {usage:width$}  {short}").trim_end().to_string());
+    }
+    Some(out.join("\n"))
 }
 
 /// For an error from an unknown command, the closest known name, as a

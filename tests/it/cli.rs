@@ -37,13 +37,36 @@ pub fn options() {
     assert!(text(&out.stderr).contains("illegal operation on a directory"));
 }
 
+/// `help` groups the scene commands by topic (issue "the first hour"):
+/// every scene command is in exactly one topic, `help TOPIC` gives each
+/// of its commands a line, `help tcl` lists the language's own.
 pub fn help_lists_commands() {
-    let out = run(&["-c", "puts [help]; puts [help lsort]"], "");
+    let out = run(&["-c", "puts [help]"], "");
+    let overview = text(&out.stdout);
+    for (topic, _, names) in rayshell::shell::docs::TOPICS {
+        assert!(overview.contains(&format!("  {topic:<10} ")), "{topic}: {overview}");
+        for n in names.iter() {
+            let homes = rayshell::shell::docs::TOPICS.iter().filter(|t| t.2.contains(n)).count();
+            assert_eq!(homes, 1, "{n} is in {homes} topics");
+        }
+    }
+    for doc in rayshell::shell::docs::SCENE {
+        assert!(rayshell::shell::docs::topic_of(doc.name).is_some(), "{} has no topic", doc.name);
+    }
+    let out = run(&["-c", "puts [help lights]"], "");
+    let lights = text(&out.stdout);
+    assert!(lights.starts_with("lights: "), "{lights}");
+    assert!(
+        lights.lines().any(|l| l.trim_start().starts_with("point_light r g b x y z")),
+        "{lights}"
+    );
+    assert!(!lights.contains("foreach"), "{lights}");
+    let out = run(&["-c", "puts [help tcl]; puts [help lsort]"], "");
     let s = text(&out.stdout);
+    assert!(!s.contains("camera_from"), "{s}");
     assert!(
         s.lines()
-            .any(|l| l.starts_with("foreach ")
-                && l.ends_with("varList list ?varList list ...? command")),
+            .any(|l| l.trim_start().starts_with("foreach varList list ?varList list ...? command")),
         "{s}"
     );
     assert!(s.contains("lsort ?-option value ...? list"), "{s}");
