@@ -99,6 +99,11 @@ pub struct Cli {
     /// With --safe, a directory the scene may also read (repeatable).
     #[arg(long, value_name = "DIR", requires = "safe")]
     pub allow_read: Vec<PathBuf>,
+    /// Print a completion script for SHELL (bash, zsh, fish, elvish,
+    /// powershell) and exit: `raytrace --completions bash >
+    /// ~/.local/share/bash-completion/completions/raytrace`.
+    #[arg(long, value_name = "SHELL")]
+    pub completions: Option<clap_complete::Shell>,
     /// Arguments for the script, after `--` (`$argv`, `$argc`).
     #[arg(last = true)]
     pub args: Vec<String>,

@@ -49,6 +49,7 @@ use std::rc::Rc;
 use crate::interp::{Code, Exception, Host, INTERRUPT_CODE, Interp, Value};
 
 pub use args::Cli;
+pub use args::options as args_list;
 pub use feedback::{INTERRUPTED, ProgressMode};
 
 /// `errorCode` of a failure to write an image; the exit status is `EXIT_IO`.
@@ -548,6 +549,11 @@ pub fn main() -> ExitCode {
         Ok(c) => c,
         Err(code) => return ExitCode::from(code),
     };
+    if let Some(shell) = cli.completions {
+        use clap::CommandFactory;
+        clap_complete::generate(shell, &mut Cli::command(), "raytrace", &mut std::io::stdout());
+        return ExitCode::SUCCESS;
+    }
     if let Some(n) = cli.threads
         && let Err(e) = rayon::ThreadPoolBuilder::new().num_threads(n as usize).build_global()
     {

@@ -247,6 +247,9 @@ pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellSt
                 match reply {
                     Reply::Result(v) => show_line!("{v}"),
                     Reply::Nothing => {}
+                    // The terminal echoed `^C` where the cursor was: the
+                    // message goes on a line of its own.
+                    Reply::Error(msg) if msg == "interrupted" => say!("\n{msg}"),
                     Reply::Error(msg) => say!("{msg}"),
                     Reply::Exit(n) => {
                         code = n;

@@ -682,3 +682,33 @@ pub fn errors_name_their_line_however_they_end() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Shell completions come from the command line's own definition (issue
+/// "the first hour"): bash completes an option from its start, and the
+/// zsh and fish scripts name every long option.
+pub fn shell_completions_know_every_option() {
+    let options = rayshell::shell::args_list();
+    for shell in ["bash", "zsh", "fish"] {
+        let r = raytrace().args(["--completions", shell]).output().unwrap();
+        assert_eq!(r.status.code(), Some(0), "{shell}");
+        let script = text(&r.stdout);
+        for o in &options {
+            let long = o.rsplit('/').next().unwrap().trim_start_matches('-');
+            if matches!(long, "help" | "version") {
+                continue;
+            }
+            assert!(script.contains(long), "{shell}: no {long}");
+        }
+    }
+    let exe = env!("CARGO_BIN_EXE_raytrace");
+    let r = Command::new("bash")
+        .args([
+            "-c",
+            "source <(\"$0\" --completions bash); COMP_WORDS=(raytrace --thr); COMP_CWORD=1; \
+             _raytrace raytrace --thr raytrace; echo \"${COMPREPLY[@]}\"",
+            exe,
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(text(&r.stdout).trim(), "--threads", "{}", text(&r.stderr));
+}

@@ -136,6 +136,7 @@ fn main() {
         cli::unwritable_output_names_are_usage_errors,
         cli::any_address_space_limit_runs_or_says_why,
         cli::errors_name_their_line_however_they_end,
+        cli::shell_completions_know_every_option,
         farm::frames_are_selected_named_and_rendered_once,
         farm::shards_cover_every_frame_once_with_the_same_bytes,
         farm::skip_existing_leaves_finished_frames_alone,
