@@ -64,12 +64,13 @@ impl Mapping {
 
     /// The image point (u, v) of `p`, and how fast (u, v) change per unit
     /// of distance there (for the filter's footprint). u runs around the y
-    /// axis counter-clockwise seen from above, from +x (u = 0) through −z
-    /// (u = 1/4); v runs up.
+    /// axis from +x (u = 0) through +z (u = 1/4), as POV-Ray's map types 1
+    /// and 2 measure it (`spherical_image_map`: the angle from +x in the
+    /// x-z plane, 2π less it where z < 0); v runs up.
     pub fn uv(self, at: TexPoint) -> (f32, f32, f32) {
         let p = at.p;
         let around = || {
-            let a = (-p.z).atan2(p.x) / std::f32::consts::TAU;
+            let a = p.z.atan2(p.x) / std::f32::consts::TAU;
             if a < 0.0 { a + 1.0 } else { a }
         };
         match self {

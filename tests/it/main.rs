@@ -165,6 +165,7 @@ fn main() {
         mesh::obj_readers_agree_on_real_models,
         pov::refraction_matches_povray,
         pov::shapes_and_csg_match_povray,
+        pov::image_mappings_match_povray,
         pov::spd_scenes_match_povray,
         pov::smooth_meshes_refract_the_same_whichever_way_they_are_wound,
         readme::the_opening_example_renders_the_picture_under_it,

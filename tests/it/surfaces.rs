@@ -219,7 +219,7 @@ fn ramp_at(u: f64, v: f64) -> (f64, f64) {
 
 /// Each projection puts the image's known texels at the known points:
 /// planar on the plane z = 0 ((u, v) = (x, y)), spherical on a unit ball
-/// (u around y from +x towards −z, v the latitude), cylindrical on a
+/// (u around y from +x towards +z, as POV-Ray, v the latitude), cylindrical on a
 /// unit cylinder (v the height). Ambient-lit white, so each pixel is the
 /// texture's linear colour.
 pub fn image_textures_put_texels_where_their_projection_says() {
@@ -242,7 +242,7 @@ pub fn image_textures_put_texels_where_their_projection_says() {
     type Case<'a> = (&'a str, (f64, f64, f64), &'a dyn Fn(f64, f64) -> Option<(f64, f64)>);
     let tau = std::f64::consts::TAU;
     let around = |x: f64, z: f64| {
-        let a = (-z).atan2(x) / tau;
+        let a = z.atan2(x) / tau;
         if a < 0.0 { a + 1.0 } else { a }
     };
     let cases: [Case; 4] = [
