@@ -141,6 +141,25 @@ fn wait_at_most(mut child: Child, secs: u64) -> std::process::Output {
     child.wait_with_output().unwrap()
 }
 
+/// Runs raytrace with `args` in `dir` (its stdin a pipe nobody writes),
+/// sends it SIGINT after `ms`; its output, and how long it took to end
+/// after the signal.
+fn interrupted_after(dir: &Path, args: &[&str], ms: u64) -> (std::process::Output, Duration) {
+    let child = raytrace()
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(ms));
+    let sent = Instant::now();
+    signal(&child, "-INT");
+    let out = wait_at_most(child, 10);
+    (out, sent.elapsed())
+}
+
 /// Waits that once ignored Ctrl-C: a FIFO nobody writes to, as the script,
 /// to `source` and to `mesh`, and standard input that never comes. Each
 /// ends at the first SIGINT with status 130. Issue "hostile input, second
@@ -158,17 +177,7 @@ pub fn waits_for_input_give_way_to_ctrl_c() {
         ("stdin", &["-"]),
     ];
     for (what, args) in cases {
-        let child = raytrace()
-            .args(args)
-            .current_dir(&dir)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(Duration::from_millis(300));
-        signal(&child, "-INT");
-        let out = wait_at_most(child, 10);
+        let (out, _) = interrupted_after(&dir, args, 300);
         assert_eq!(out.status.code(), Some(130), "{what}: {}", text(&out.stderr));
         if args.len() == 2 {
             assert_eq!(text(&out.stdout), "hello\n", "{what}: output before the wait is kept");
@@ -262,19 +271,7 @@ pub fn one_ctrl_c_ends_every_wait_within_half_a_second() {
         ),
     ];
     for (what, args) in cases {
-        let child = raytrace()
-            .args(args)
-            .current_dir(&dir)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(Duration::from_millis(400));
-        let sent = Instant::now();
-        signal(&child, "-INT");
-        let out = wait_at_most(child, 10);
-        let took = sent.elapsed();
+        let (out, took) = interrupted_after(&dir, args, 400);
         assert_eq!(out.status.code(), Some(130), "{what}: {}", text(&out.stderr));
         assert_eq!(text(&out.stdout), "hello\n", "{what}: output before the wait is kept");
         // Half a second, and the time a loaded machine takes to reap.
