@@ -58,7 +58,9 @@ impl<R: BufRead> Words<R> {
             match read.map_err(|e| format!("line {}: {e}", self.line + 1))? {
                 0 => return Ok(None),
                 n if n > MAX_LINE => {
-                    return Err(format!("line {}: longer than {MAX_LINE} bytes", self.line + 1));
+                    // Placed at this line by the caller (`FILE:LINE: ...`).
+                    self.line += 1;
+                    return Err(format!("line longer than {} MiB", MAX_LINE >> 20));
                 }
                 _ => self.line += 1,
             }

@@ -470,6 +470,7 @@ const CORPUS: &[(&str, &str, i32, &str)] = &[
         "couldn't read file \"/dev/zero\": not enough memory",
     ),
     ("mesh /dev/zero", "mesh /dev/zero", 1, "/dev/zero:1: line longer than 16 MiB"),
+    ("nff /dev/zero", "nff /dev/zero", 1, "/dev/zero:1: line longer than 1 MiB"),
     // Nesting: a list a million deep prints and frees without recursion
     // (it once overflowed the stack); Tcl's level count is tclsh's.
     (
