@@ -856,8 +856,12 @@ fn render_command(
             render::render_finished(&scene, job, old, &mut bytes, enc)
         }
     });
-    // Cancelled (Ctrl-C): the temporary file goes with `out`.
-    let (mut img, rays, finished) = done.ok_or_else(super::interrupted)?;
+    // Cancelled (Ctrl-C): the temporary file goes with `out`, and the time
+    // it traced is not the next render's parse time (`stats`).
+    let Some((mut img, rays, finished)) = done else {
+        st.since_last = Instant::now();
+        return Err(super::interrupted());
+    };
     if !heatmap && !finished {
         render::apply_look(&scene.sampling, &mut img);
     }

@@ -22,6 +22,10 @@ pub static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 /// session (the first is on its way).
 pub static IN_REPL: AtomicBool = AtomicBool::new(false);
 
+/// Set for the whole of a REPL session: the grace after Ctrl-C never ends
+/// it (a terminal in line mode sends SIGINT at the prompt too).
+pub static REPL_SESSION: AtomicBool = AtomicBool::new(false);
+
 /// Temporary files being written (`AtomicFile`), removed by `exit_now`.
 static TEMPS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
@@ -59,11 +63,12 @@ pub fn catch_interrupts() {
     let _ = signal_hook::flag::register(signal_hook::consts::SIGXFSZ, ignored);
 }
 
-/// Ends the process after `GRACE` unless it is in the REPL by then.
+/// Ends the process after `GRACE` unless it is in a REPL session.
 fn watchdog() {
     let _ = std::thread::Builder::new().name("watchdog".into()).spawn(|| {
         std::thread::sleep(GRACE);
-        if !IN_REPL.load(Ordering::SeqCst) && INTERRUPTED.load(Ordering::SeqCst) {
+        let in_repl = IN_REPL.load(Ordering::SeqCst) || REPL_SESSION.load(Ordering::SeqCst);
+        if !in_repl && INTERRUPTED.load(Ordering::SeqCst) {
             exit_now();
         }
     });

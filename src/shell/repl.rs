@@ -200,6 +200,7 @@ pub fn eval_line(interp: &mut Interp, line: &str) -> Reply {
 /// Runs the REPL until Ctrl-D or `exit`; returns the exit code. Time spent
 /// waiting for typing is left out of `state`'s parse time.
 pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellState>) -> i32 {
+    super::feedback::REPL_SESSION.store(true, Ordering::SeqCst);
     let _ = interp.set_var("::tcl_interactive", crate::interp::Value::from("1"));
     let config =
         rustyline::Config::builder().completion_type(rustyline::CompletionType::List).build();
@@ -241,6 +242,9 @@ pub fn run(interp: &mut Interp, state: &std::cell::RefCell<super::stats::ShellSt
                     continue;
                 }
                 let _ = rl.add_history_entry(line.as_str());
+                // A Ctrl-C at the prompt (a terminal in line mode sends it
+                // as a signal) was for the line being typed, not this one.
+                super::feedback::INTERRUPTED.store(false, Ordering::SeqCst);
                 IN_REPL.store(true, Ordering::SeqCst);
                 let reply = eval_line(interp, &line);
                 IN_REPL.store(false, Ordering::SeqCst);

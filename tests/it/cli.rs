@@ -393,6 +393,38 @@ pub fn repl_stats_leave_out_the_time_spent_typing() {
     assert!(secs < 1.0, "parse time {secs} s includes the pause: {shown}");
 }
 
+/// A render stopped by Ctrl-C is not the next render's parse time
+/// (issue "the first hour": `stats` counted the stopped render's seconds),
+/// and a Ctrl-C at the prompt leaves the session and its next line alone.
+pub fn repl_stats_after_an_interrupt_leave_out_the_stopped_render() {
+    let (status, shown) = crate::util::repl_session(&[
+        "camera_resolution 3000 3000; samples 16; sphere 0 0 -3 1; point_light 1 1 1 0 5 0",
+        "render slow.png",
+        "#pause 1500",
+        "\u{3}",
+        "#pause 300",
+        "camera_resolution 8 8; samples 1",
+        "render x.png",
+        "puts \"parse=[lindex [split [stats] \\n] 0]\"",
+        // A ^C at the prompt (this terminal is in line mode: a signal)
+        // neither ends the session nor stops the next line.
+        "#pause 300",
+        "\u{3}",
+        "#pause 900",
+        "puts [string toupper alive]",
+        "exit 5",
+    ]);
+    assert_eq!(status, Some(5), "{shown}");
+    assert!(shown.contains("interrupted"), "{shown}");
+    assert!(shown.contains("ALIVE"), "{shown}");
+    let line = shown
+        .lines()
+        .find_map(|l| l.split_once("parse=parse").map(|(_, r)| r))
+        .unwrap_or_else(|| panic!("{shown}"));
+    let secs: f64 = line.split_whitespace().next().and_then(|s| s.parse().ok()).expect(line);
+    assert!(secs < 1.0, "parse time {secs} s includes the stopped render: {shown}");
+}
+
 pub fn closed_streams_and_byte_order_marks() {
     // Issue "hostile input": a closed or full stderr never stops a run (it
     // once panicked, exit 101); a reader that stops reading stdout ends the

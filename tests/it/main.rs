@@ -127,6 +127,7 @@ fn main() {
         cli::show_draws_the_last_render_in_half_blocks,
         cli::a_bar_asked_for_is_drawn_into_a_pipe,
         cli::repl_stats_leave_out_the_time_spent_typing,
+        cli::repl_stats_after_an_interrupt_leave_out_the_stopped_render,
         cli::closed_streams_and_byte_order_marks,
         cli::the_memory_budget_from_the_command_line,
         cli::endless_input_is_refused,
