@@ -383,35 +383,10 @@ pub fn did_you_mean(interp: &Interp, e: &Exception) -> Option<String> {
     let best = interp
         .command_names()
         .into_iter()
-        .map(|c| (edit_distance(name, c.trim_start_matches(':')), letters(&c) != mine, c))
+        .map(|c| (strsim::osa_distance(name, c.trim_start_matches(':')), letters(&c) != mine, c))
         .filter(|(d, _, c)| *d > 0 && *d <= (name.len() / 3).clamp(1, 3) && !c.contains("::"))
         .min()?;
     Some(format!("did you mean \"{}\"?", best.2))
-}
-
-/// Levenshtein distance with transpositions (optimal string alignment).
-fn edit_distance(a: &str, b: &str) -> usize {
-    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
-    if a.len().abs_diff(b.len()) > 3 || a.len() > 64 || b.len() > 64 {
-        return usize::MAX;
-    }
-    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
-    for (i, row) in d.iter_mut().enumerate() {
-        row[0] = i;
-    }
-    for (j, cell) in d[0].iter_mut().enumerate() {
-        *cell = j;
-    }
-    for i in 1..=a.len() {
-        for j in 1..=b.len() {
-            let cost = usize::from(a[i - 1] != b[j - 1]);
-            d[i][j] = (d[i - 1][j] + 1).min(d[i][j - 1] + 1).min(d[i - 1][j - 1] + cost);
-            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
-                d[i][j] = d[i][j].min(d[i - 2][j - 2] + 1);
-            }
-        }
-    }
-    d[a.len()][b.len()]
 }
 
 /// Prints an uncaught error as `file:line: message` plus the Tcl trace.

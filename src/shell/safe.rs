@@ -377,14 +377,7 @@ mod gate {
         roots: &[Root],
         path: &'a Path,
     ) -> Result<(OwnedFd, &'a std::ffi::OsStr), Denied> {
-        let name = match path.components().next_back() {
-            Some(Component::Normal(n)) => n,
-            _ => return Err(Denied::Outside),
-        };
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
+        let (dir, name) = dir_and_name(path).ok_or(Denied::Outside)?;
         let mut inside = None;
         for (root, rest) in candidates(roots, dir) {
             match openat2(root, &rest, OFlags::PATH | OFlags::DIRECTORY) {
@@ -421,16 +414,17 @@ mod gate {
     /// The (device, inode) of `path`'s directory and its last name, as the
     /// kernel finds them now (following links, as the user meant).
     pub fn parent_id(path: &Path) -> Option<(u64, u64, std::ffi::OsString)> {
-        let name = match path.components().next_back() {
-            Some(Component::Normal(n)) => n.to_os_string(),
-            _ => return None,
-        };
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
+        let (dir, name) = dir_and_name(path)?;
         let st = rustix::fs::stat(dir).ok()?;
-        Some((st.st_dev, st.st_ino, name))
+        Some((st.st_dev, st.st_ino, name.to_os_string()))
+    }
+
+    /// `path`'s directory ("." for a bare name) and its last name, when
+    /// that is a name (not `..`, `.` or `/`).
+    fn dir_and_name(path: &Path) -> Option<(&Path, &std::ffi::OsStr)> {
+        let Some(Component::Normal(name)) = path.components().next_back() else { return None };
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        Some((dir, name))
     }
 }
 
