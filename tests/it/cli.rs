@@ -374,6 +374,16 @@ pub fn a_bar_asked_for_is_drawn_into_a_pipe() {
     assert!(!text(&r.stderr).contains("out.png ["), "auto mode drew a bar into a pipe");
 }
 
+/// The parse time `stats` gave, from a REPL session that printed
+/// `parse=[lindex [split [stats] \n] 0]`.
+fn parse_time(shown: &str) -> f64 {
+    let line = shown
+        .lines()
+        .find_map(|l| l.split_once("parse=parse").map(|(_, r)| r))
+        .unwrap_or_else(|| panic!("{shown}"));
+    line.split_whitespace().next().and_then(|s| s.parse().ok()).expect(line)
+}
+
 pub fn repl_stats_leave_out_the_time_spent_typing() {
     // `stats` reports "parse" time: running the script up to the render,
     // not the 1.5 s the user took to type the next line.
@@ -385,11 +395,7 @@ pub fn repl_stats_leave_out_the_time_spent_typing() {
         "exit 5",
     ]);
     assert_eq!(status, Some(5), "{shown}");
-    let line = shown
-        .lines()
-        .find_map(|l| l.split_once("parse=parse").map(|(_, r)| r))
-        .unwrap_or_else(|| panic!("{shown}"));
-    let secs: f64 = line.split_whitespace().next().and_then(|s| s.parse().ok()).expect(line);
+    let secs = parse_time(&shown);
     assert!(secs < 1.0, "parse time {secs} s includes the pause: {shown}");
 }
 
@@ -417,11 +423,7 @@ pub fn repl_stats_after_an_interrupt_leave_out_the_stopped_render() {
     assert_eq!(status, Some(5), "{shown}");
     assert!(shown.contains("interrupted"), "{shown}");
     assert!(shown.contains("ALIVE"), "{shown}");
-    let line = shown
-        .lines()
-        .find_map(|l| l.split_once("parse=parse").map(|(_, r)| r))
-        .unwrap_or_else(|| panic!("{shown}"));
-    let secs: f64 = line.split_whitespace().next().and_then(|s| s.parse().ok()).expect(line);
+    let secs = parse_time(&shown);
     assert!(secs < 1.0, "parse time {secs} s includes the stopped render: {shown}");
 }
 
